@@ -1,0 +1,57 @@
+//! Space Foosball sensor board firmware for the RP2040 (Raspberry Pi Pico).
+//!
+//! Eight optical PS/2 mice watch the eight rods; the PIO state machines run their
+//! wire protocol ([`ps2_pio`]), the platform-free `sensor-board` crate drives and
+//! decodes them ([`sensor_loop`]), and a USB HID interface sends the paddle motion
+//! every millisecond and takes haptic pulses and the LED state back ([`usb_hid`],
+//! [`haptics`], [`led`]). A watchdog resets the chip if the sensor loop stalls
+//! ([`watchdog`]); [`pins`] is the pin map.
+//!
+//! This file only wires the parts together.
+#![no_std]
+#![no_main]
+
+mod haptics;
+mod led;
+mod pins;
+mod ps2_pio;
+mod sensor_loop;
+mod usb_hid;
+mod watchdog;
+
+use defmt::unwrap;
+use embassy_executor::Spawner;
+use embassy_rp::bind_interrupts;
+use embassy_rp::peripherals::{PIO0, PIO1, USB};
+use embassy_rp::pio::{self, Pio};
+use embassy_rp::usb;
+use {defmt_rtt as _, panic_probe as _};
+
+bind_interrupts!(struct Irqs {
+    USBCTRL_IRQ => usb::InterruptHandler<USB>;
+    PIO0_IRQ_0 => pio::InterruptHandler<PIO0>;
+    PIO1_IRQ_0 => pio::InterruptHandler<PIO1>;
+});
+
+#[embassy_executor::main]
+async fn main(spawner: Spawner) {
+    let board = pins::Board::take(embassy_rp::init(Default::default()));
+    defmt::info!("Space Foosball sensor board starting");
+    pins::log_map();
+
+    let watchdog = watchdog::Watchdog::start(board.watchdog);
+    let ports = ps2_pio::Ps2Ports::new(
+        Pio::new(board.pio0, Irqs),
+        Pio::new(board.pio1, Irqs),
+        board.ps2,
+    );
+    let haptics = haptics::Haptics::new(board.haptics);
+    let usb = usb_hid::Usb::new(usb::Driver::new(board.usb, Irqs));
+
+    spawner.spawn(unwrap!(sensor_loop::sensor_task(ports, watchdog)));
+    spawner.spawn(unwrap!(haptics::haptics_task(haptics)));
+    spawner.spawn(unwrap!(led::led_task(board.led)));
+    spawner.spawn(unwrap!(usb_hid::usb_device_task(usb.device)));
+    spawner.spawn(unwrap!(usb_hid::report_in_task(usb.writer)));
+    spawner.spawn(unwrap!(usb_hid::report_out_task(usb.reader)));
+}

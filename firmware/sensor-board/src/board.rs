@@ -1,0 +1,167 @@
+//! The whole board: eight mouse ports → one IN report per millisecond.
+
+use foosball_protocol::{InReport, PaddleMotion, PaddleStatus};
+
+use crate::mouse::{MouseConfig, MouseDriver};
+use crate::paddle::{AxisMap, PaddleAccumulator};
+use crate::ps2::{Ps2Frame, SendError};
+use crate::PORTS;
+
+/// Configuration of the board.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BoardConfig {
+    /// Mouse configuration, shared by all ports.
+    pub mouse: MouseConfig,
+    /// How each port's sensor is mounted, indexed by port (0..8).
+    pub axis_maps: [AxisMap; PORTS],
+}
+
+impl BoardConfig {
+    /// Default mouse configuration, every axis map [`AxisMap::IDENTITY`].
+    pub const DEFAULT: Self = Self {
+        mouse: MouseConfig::DEFAULT,
+        axis_maps: [AxisMap::IDENTITY; PORTS],
+    };
+}
+
+/// Eight ports: a [`MouseDriver`] and a [`PaddleAccumulator`] each, and the report
+/// sequence number.
+///
+/// Every method taking a `port` ignores ports outside `0..8` (no panic).
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SensorBoard {
+    config: BoardConfig,
+    drivers: [MouseDriver; PORTS],
+    accumulators: [PaddleAccumulator; PORTS],
+    /// Sequence number of the next report.
+    sequence: u16,
+}
+
+impl SensorBoard {
+    /// A board whose drivers reset their mice on the first [`poll`](Self::poll).
+    pub const fn new(config: BoardConfig) -> Self {
+        Self {
+            drivers: [const { MouseDriver::new(MouseConfig::DEFAULT) }; PORTS],
+            accumulators: [PaddleAccumulator::new(); PORTS],
+            sequence: 0,
+            config,
+        }
+        .with_mouse_config()
+    }
+
+    /// Applies `config.mouse` to every driver (const-friendly).
+    const fn with_mouse_config(mut self) -> Self {
+        let mut port = 0;
+        while port < PORTS {
+            self.drivers[port] = MouseDriver::new(self.config.mouse);
+            port += 1;
+        }
+        self
+    }
+
+    /// A frame arrived on `port` at `now_us`; motion goes into the port's accumulator.
+    pub fn on_frame(&mut self, port: usize, now_us: u64, frame: Ps2Frame) {
+        let (Some(driver), Some(accumulator), Some(map)) = (
+            self.drivers.get_mut(port),
+            self.accumulators.get_mut(port),
+            self.config.axis_maps.get(port),
+        ) else {
+            return;
+        };
+        if let Some(packet) = driver.on_frame(now_us, frame) {
+            accumulator.add_packet(&packet, map);
+        }
+    }
+
+    /// Call for every port at least every millisecond: runs the port's timeouts and
+    /// returns the command byte to send to its mouse, if any (then report the outcome
+    /// with [`on_command_sent`](Self::on_command_sent)).
+    pub fn poll(&mut self, port: usize, now_us: u64) -> Option<u8> {
+        self.drivers.get_mut(port)?.poll(now_us)
+    }
+
+    /// The outcome of sending the byte [`poll`](Self::poll) returned for `port`.
+    pub fn on_command_sent(&mut self, port: usize, now_us: u64, result: Result<(), SendError>) {
+        if let Some(driver) = self.drivers.get_mut(port) {
+            driver.on_command_sent(now_us, result);
+        }
+    }
+
+    /// Drains all eight accumulators into the next IN report and advances the
+    /// sequence number (wrapping; the first report is number 0). Each paddle's status
+    /// has [`PaddleStatus::PRESENT`] if its mouse is streaming now, plus the flags seen
+    /// since the previous report. `now_us` is not needed today (timeouts run in
+    /// [`poll`](Self::poll)).
+    pub fn take_report(&mut self, now_us: u64) -> InReport {
+        let _ = now_us;
+        let mut paddles = [PaddleMotion::default(); PORTS];
+        for ((paddle, driver), accumulator) in paddles
+            .iter_mut()
+            .zip(self.drivers.iter_mut())
+            .zip(self.accumulators.iter_mut())
+        {
+            let events = driver.take_events();
+            let mut status = PaddleStatus::empty();
+            if driver.is_present() {
+                status |= PaddleStatus::PRESENT;
+            }
+            if events.framing_error {
+                status |= PaddleStatus::FRAMING_ERROR;
+            }
+            if events.parity_error {
+                status |= PaddleStatus::PARITY_ERROR;
+            }
+            if events.reinitialised {
+                status |= PaddleStatus::REINITIALISED;
+            }
+            accumulator.flag(status);
+            *paddle = accumulator.take();
+        }
+        let sequence = self.sequence;
+        self.sequence = self.sequence.wrapping_add(1);
+        InReport { sequence, paddles }
+    }
+
+    /// The configuration.
+    pub const fn config(&self) -> &BoardConfig {
+        &self.config
+    }
+
+    /// The driver of `port`, `None` outside `0..8`.
+    pub fn driver(&self, port: usize) -> Option<&MouseDriver> {
+        self.drivers.get(port)
+    }
+
+    /// The accumulator of `port` (motion since the last report), `None` outside `0..8`.
+    pub fn accumulator(&self, port: usize) -> Option<&PaddleAccumulator> {
+        self.accumulators.get(port)
+    }
+
+    /// Whether the mouse on `port` is initialised and streaming.
+    pub fn is_present(&self, port: usize) -> bool {
+        self.drivers.get(port).is_some_and(MouseDriver::is_present)
+    }
+
+    /// Bit `i` set when port `i`'s mouse is present (e.g. to blink the LED when one
+    /// is missing).
+    pub fn present_mask(&self) -> u8 {
+        self.drivers
+            .iter()
+            .enumerate()
+            .filter(|(_, driver)| driver.is_present())
+            .fold(0, |mask, (port, _)| mask | (1 << port))
+    }
+
+    /// Sequence number the next report will carry.
+    pub const fn next_sequence(&self) -> u16 {
+        self.sequence
+    }
+}
+
+impl Default for SensorBoard {
+    fn default() -> Self {
+        Self::new(BoardConfig::DEFAULT)
+    }
+}

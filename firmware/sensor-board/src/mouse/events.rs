@@ -1,0 +1,46 @@
+//! What a driver noticed since it was last asked: sticky events and counters.
+
+/// Sticky events since the last [`crate::MouseDriver::take_events`]; they become the
+/// per-report flags of [`foosball_protocol::PaddleStatus`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct DriverEvents {
+    /// A frame with a bad start or stop bit arrived.
+    pub framing_error: bool,
+    /// A frame with bad odd parity arrived.
+    pub parity_error: bool,
+    /// The mouse finished (re-)initialisation and is streaming (power-up, hot-plug,
+    /// spontaneous restart, found again after being absent).
+    pub reinitialised: bool,
+}
+
+impl DriverEvents {
+    /// Whether no event is set.
+    pub const fn is_empty(&self) -> bool {
+        !(self.framing_error || self.parity_error || self.reinitialised)
+    }
+}
+
+/// Wrapping diagnostic counters since the driver was created.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct DriverStats {
+    /// Frames received, good or bad.
+    pub frames: u32,
+    /// Stream packets delivered.
+    pub packets: u32,
+    /// Frames with a bad start or stop bit.
+    pub framing_errors: u32,
+    /// Frames with bad parity.
+    pub parity_errors: u32,
+    /// Bytes or partial packets dropped to resynchronise the packet stream.
+    pub resyncs: u32,
+    /// Times the driver declared the port absent (timeout, failed send, failed init).
+    pub absences: u32,
+    /// Times initialisation completed (the mouse started streaming).
+    pub inits: u32,
+    /// Spontaneous self-test results (`0xAA 0x00`) seen: mouse restarts or hot-plugs.
+    pub restarts: u32,
+    /// Liveness probes sent to a silent streaming mouse.
+    pub probes: u32,
+}

@@ -1,0 +1,625 @@
+//! [`UsbBoard`]: the real sensor board over USB (`rusb`).
+//!
+//! A reader thread keeps an interrupt IN transfer pending at all times and queues the
+//! packets, so the board's 1 kHz reports are not lost while the game is busy between
+//! polls; OUT reports go out as interrupt OUT transfers (or HID `SET_REPORT` control
+//! transfers on a board without an OUT endpoint). The rusb-independent logic (which
+//! interface and endpoints to use, which device to open, which errors mean "unplugged")
+//! is in plain functions tested without hardware; the reconnect state machine is shared
+//! with the socket board ([`crate::link`]).
+
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TryRecvError};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+use foosball_protocol::usb::{PRODUCT_ID, VENDOR_ID};
+use foosball_protocol::{InReport, OutReport};
+use rusb::{Context, DeviceHandle, Direction, TransferType, UsbContext};
+
+use crate::link::{Connector, Link, ReportBuf, SystemClock, Transport, TransportError};
+use crate::socket_wire::MAX_PAYLOAD;
+use crate::{Board, BoardError, LinkState, LinkStats, DEFAULT_RETRY_INTERVAL};
+
+/// USB interface class of HID devices.
+const HID_CLASS: u8 = 0x03;
+/// How long one pending IN transfer waits before the reader thread checks for stop.
+const READ_TIMEOUT: Duration = Duration::from_millis(50);
+/// Timeout of one OUT transfer.
+const WRITE_TIMEOUT: Duration = Duration::from_millis(100);
+/// Reports queued between the reader thread and the game (4 s at 1 kHz). When the
+/// game stops polling for longer, newer reports are dropped and counted as lost.
+const QUEUE_DEPTH: usize = 4096;
+/// HID class request `SET_REPORT`, host-to-device, class, interface.
+const HID_SET_REPORT_REQUEST_TYPE: u8 = 0x21;
+const HID_SET_REPORT: u8 = 0x09;
+/// `wValue` of `SET_REPORT`: report type Output (2) in the high byte, report id 0.
+const HID_OUTPUT_REPORT_NO_ID: u16 = 0x0200;
+
+/// The real sensor board on USB, found by vendor/product id
+/// ([`foosball_protocol::usb::VENDOR_ID`]:[`foosball_protocol::usb::PRODUCT_ID`]).
+///
+/// Opening detaches a kernel driver bound to the HID interface (re-attached when the
+/// board is released) and claims the interface; the interrupt endpoints are taken from
+/// the configuration descriptor. When the board is unplugged (libusb `NoDevice`, `Io` or
+/// `Pipe`) the poll reports [`BoardError::Disconnected`], and later polls rescan the bus,
+/// at most once per retry interval ([`DEFAULT_RETRY_INTERVAL`]), until it is back.
+///
+/// Without root, opening needs the udev rule `udev/99-space-foosball.rules` of this
+/// crate ([`BoardError::AccessDenied`] otherwise).
+pub struct UsbBoard {
+    link: Link<UsbConnector>,
+}
+
+impl UsbBoard {
+    /// Opens the sensor board ([`VENDOR_ID`]:[`PRODUCT_ID`]) now.
+    /// [`BoardError::NotFound`] if none is plugged in.
+    pub fn open() -> Result<Self, BoardError> {
+        Self::open_ids(VENDOR_ID, PRODUCT_ID)
+    }
+
+    /// Opens the first device with the given ids now; [`BoardError::NotFound`] if none.
+    pub fn open_ids(vid: u16, pid: u16) -> Result<Self, BoardError> {
+        let mut board = Self::new(vid, pid);
+        board.link.connect_now()?;
+        Ok(board)
+    }
+
+    /// A board with the given ids that is not opened yet: the first poll looks for it,
+    /// and polls keep looking until it is plugged in.
+    pub fn new(vid: u16, pid: u16) -> Self {
+        Self {
+            link: Link::new(
+                UsbConnector {
+                    vid,
+                    pid,
+                    context: None,
+                },
+                SystemClock,
+                DEFAULT_RETRY_INTERVAL,
+            ),
+        }
+    }
+
+    /// Vendor and product id looked for.
+    pub fn ids(&self) -> (u16, u16) {
+        let connector = self.link.connector();
+        (connector.vid, connector.pid)
+    }
+
+    /// How often a missing board is looked for again.
+    pub fn retry_interval(&self) -> Duration {
+        self.link.retry_interval()
+    }
+
+    /// Why the last attempt to reach the board failed (`NotFound`, `AccessDenied`,
+    /// a refused connection, …), while it is not connected; polls meanwhile report
+    /// [`BoardError::Disconnected`].
+    pub fn last_connect_error(&self) -> Option<&BoardError> {
+        self.link.last_connect_error()
+    }
+
+    /// Sets how often a missing board is looked for again.
+    pub fn set_retry_interval(&mut self, interval: Duration) {
+        self.link.set_retry_interval(interval);
+    }
+}
+
+impl Board for UsbBoard {
+    fn name(&self) -> String {
+        self.link.name()
+    }
+    fn poll_report(&mut self, timeout: Duration) -> Result<Option<InReport>, BoardError> {
+        self.link.poll_report(timeout)
+    }
+    fn send(&mut self, report: &OutReport) -> Result<(), BoardError> {
+        self.link.send(report)
+    }
+    fn link_state(&self) -> LinkState {
+        self.link.state()
+    }
+    fn stats(&self) -> LinkStats {
+        self.link.stats()
+    }
+}
+
+impl std::fmt::Debug for UsbBoard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("UsbBoard")
+            .field("name", &self.link.name())
+            .field("state", &self.link.state())
+            .field("stats", &self.link.stats())
+            .finish()
+    }
+}
+
+/// One endpoint of an alternate setting, as far as endpoint selection cares.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct EndpointInfo {
+    pub address: u8,
+    pub is_in: bool,
+    pub is_interrupt: bool,
+}
+
+/// One alternate setting of one interface.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct AltSettingInfo {
+    pub interface: u8,
+    pub alt_setting: u8,
+    pub class: u8,
+    pub endpoints: Vec<EndpointInfo>,
+}
+
+/// The interface and endpoints the board is driven through.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Endpoints {
+    pub interface: u8,
+    pub alt_setting: u8,
+    pub in_address: u8,
+    /// `None`: OUT reports go as HID `SET_REPORT` control transfers.
+    pub out_address: Option<u8>,
+}
+
+/// Picks the interface to use: one with an interrupt IN endpoint, preferring HID
+/// interfaces, then ones that also have an interrupt OUT endpoint, then the first.
+pub(crate) fn find_endpoints(alt_settings: &[AltSettingInfo]) -> Option<Endpoints> {
+    alt_settings
+        .iter()
+        .filter_map(|alt| {
+            let first = |is_in: bool| {
+                alt.endpoints
+                    .iter()
+                    .find(|ep| ep.is_interrupt && ep.is_in == is_in)
+                    .map(|ep| ep.address)
+            };
+            let endpoints = Endpoints {
+                interface: alt.interface,
+                alt_setting: alt.alt_setting,
+                in_address: first(true)?,
+                out_address: first(false),
+            };
+            let rank = (alt.class != HID_CLASS, endpoints.out_address.is_none());
+            Some((rank, endpoints))
+        })
+        .min_by_key(|(rank, _)| *rank)
+        .map(|(_, endpoints)| endpoints)
+}
+
+/// The alternate settings of a configuration descriptor.
+fn describe_config(config: &rusb::ConfigDescriptor) -> Vec<AltSettingInfo> {
+    config
+        .interfaces()
+        .flat_map(|interface| interface.descriptors())
+        .map(|alt| AltSettingInfo {
+            interface: alt.interface_number(),
+            alt_setting: alt.setting_number(),
+            class: alt.class_code(),
+            endpoints: alt
+                .endpoint_descriptors()
+                .map(|ep| EndpointInfo {
+                    address: ep.address(),
+                    is_in: ep.direction() == Direction::In,
+                    is_interrupt: ep.transfer_type() == TransferType::Interrupt,
+                })
+                .collect(),
+        })
+        .collect()
+}
+
+/// Opens the first candidate whose ids match: the first success wins; if every match
+/// fails, the last failure is returned; with no match at all, [`BoardError::NotFound`].
+pub(crate) fn open_first_match<D, T>(
+    candidates: impl IntoIterator<Item = (u16, u16, D)>,
+    vid: u16,
+    pid: u16,
+    mut open: impl FnMut(D) -> Result<T, BoardError>,
+) -> Result<T, BoardError> {
+    let mut last_error = None;
+    for (candidate_vid, candidate_pid, device) in candidates {
+        if (candidate_vid, candidate_pid) != (vid, pid) {
+            continue;
+        }
+        match open(device) {
+            Ok(opened) => return Ok(opened),
+            Err(e) => last_error = Some(e),
+        }
+    }
+    Err(last_error.unwrap_or(BoardError::NotFound { vid, pid }))
+}
+
+/// How a libusb error on an open board is handled.
+pub(crate) fn classify(error: rusb::Error) -> TransportError {
+    match error {
+        rusb::Error::NoDevice | rusb::Error::Io | rusb::Error::Pipe => TransportError::Gone,
+        other => TransportError::Transient(BoardError::Usb(other.to_string())),
+    }
+}
+
+/// A libusb error while opening a board with the given ids.
+fn open_error(error: rusb::Error, vid: u16, pid: u16, what: &str) -> BoardError {
+    match error {
+        rusb::Error::Access => BoardError::AccessDenied { vid, pid },
+        // Unplugged between enumeration and opening.
+        rusb::Error::NoDevice | rusb::Error::NotFound => BoardError::NotFound { vid, pid },
+        rusb::Error::Busy => BoardError::Usb(format!(
+            "{what}: the board's interface is busy (another program has it open?)"
+        )),
+        other => BoardError::Usb(format!("{what}: {other}")),
+    }
+}
+
+/// Whether this system exposes USB devices to libusb at all (Linux usbfs). Where it
+/// does not (containers, build machines), no board can be plugged in.
+fn usb_bus_visible() -> bool {
+    !cfg!(target_os = "linux") || Path::new("/dev/bus/usb").is_dir()
+}
+
+struct UsbConnector {
+    vid: u16,
+    pid: u16,
+    /// Made on the first scan and kept; libusb tracks hot-plugged devices in it.
+    context: Option<Context>,
+}
+
+impl UsbConnector {
+    fn context(&mut self) -> Result<Context, BoardError> {
+        if let Some(context) = &self.context {
+            return Ok(context.clone());
+        }
+        let context = Context::new().map_err(|e| {
+            if usb_bus_visible() {
+                BoardError::Usb(format!("libusb initialisation failed: {e}"))
+            } else {
+                // No USB device file system: nothing is plugged in that we could see.
+                BoardError::NotFound {
+                    vid: self.vid,
+                    pid: self.pid,
+                }
+            }
+        })?;
+        self.context = Some(context.clone());
+        Ok(context)
+    }
+}
+
+impl Connector for UsbConnector {
+    type Transport = UsbTransport;
+
+    fn describe(&self) -> String {
+        format!("USB {:04x}:{:04x} (not connected)", self.vid, self.pid)
+    }
+
+    fn connect(&mut self) -> Result<UsbTransport, BoardError> {
+        let (vid, pid) = (self.vid, self.pid);
+        let context = self.context()?;
+        let devices = context
+            .devices()
+            .map_err(|e| BoardError::Usb(format!("listing USB devices: {e}")))?;
+        let candidates = devices.iter().filter_map(|device| {
+            let descriptor = device.device_descriptor().ok()?;
+            Some((descriptor.vendor_id(), descriptor.product_id(), device))
+        });
+        open_first_match(candidates, vid, pid, |device| {
+            UsbTransport::open(&device, vid, pid)
+        })
+    }
+}
+
+/// What the reader thread hands to the game.
+enum UsbEvent {
+    Report { len: usize, bytes: ReportBuf },
+    Error(String),
+}
+
+struct UsbTransport {
+    handle: Arc<DeviceHandle<Context>>,
+    endpoints: Endpoints,
+    name: String,
+    events: Receiver<UsbEvent>,
+    stop: Arc<AtomicBool>,
+    reader: Option<JoinHandle<()>>,
+}
+
+impl UsbTransport {
+    fn open(device: &rusb::Device<Context>, vid: u16, pid: u16) -> Result<Self, BoardError> {
+        let name = format!(
+            "USB {vid:04x}:{pid:04x} bus {} addr {}",
+            device.bus_number(),
+            device.address()
+        );
+        let config = device
+            .active_config_descriptor()
+            .or_else(|_| device.config_descriptor(0))
+            .map_err(|e| open_error(e, vid, pid, "reading the configuration descriptor"))?;
+        let endpoints = find_endpoints(&describe_config(&config)).ok_or_else(|| {
+            BoardError::Usb(format!(
+                "{name}: no interface with an interrupt IN endpoint"
+            ))
+        })?;
+        let handle = device
+            .open()
+            .map_err(|e| open_error(e, vid, pid, "opening the device"))?;
+        let interface = endpoints.interface;
+        // Detach the kernel's HID driver on claim and re-attach it on release; where
+        // libusb cannot do that automatically, detach by hand.
+        if handle.set_auto_detach_kernel_driver(true).is_err()
+            && handle.kernel_driver_active(interface).unwrap_or(false)
+        {
+            handle
+                .detach_kernel_driver(interface)
+                .map_err(|e| open_error(e, vid, pid, "detaching the kernel driver"))?;
+        }
+        handle
+            .claim_interface(interface)
+            .map_err(|e| open_error(e, vid, pid, "claiming the interface"))?;
+        if endpoints.alt_setting != 0 {
+            handle
+                .set_alternate_setting(interface, endpoints.alt_setting)
+                .map_err(|e| open_error(e, vid, pid, "selecting the alternate setting"))?;
+        }
+        let handle = Arc::new(handle);
+        let stop = Arc::new(AtomicBool::new(false));
+        let (sender, events) = mpsc::sync_channel(QUEUE_DEPTH);
+        let reader = {
+            let handle = Arc::clone(&handle);
+            let stop = Arc::clone(&stop);
+            let endpoint = endpoints.in_address;
+            std::thread::Builder::new()
+                .name("board-link usb reader".into())
+                .spawn(move || read_loop(&handle, endpoint, &sender, &stop))?
+        };
+        Ok(Self {
+            handle,
+            endpoints,
+            name,
+            events,
+            stop,
+            reader: Some(reader),
+        })
+    }
+}
+
+/// Keeps an IN transfer pending until stopped or the board is gone (then drops the
+/// sender, which the game sees as the channel disconnecting after the queued reports).
+fn read_loop(
+    handle: &DeviceHandle<Context>,
+    endpoint: u8,
+    events: &SyncSender<UsbEvent>,
+    stop: &AtomicBool,
+) {
+    while !stop.load(Ordering::Relaxed) {
+        let mut bytes: ReportBuf = [0; MAX_PAYLOAD];
+        match handle.read_interrupt(endpoint, &mut bytes, READ_TIMEOUT) {
+            // A full queue drops the report; the sequence gap counts it as lost.
+            Ok(len) => drop(events.try_send(UsbEvent::Report { len, bytes })),
+            Err(rusb::Error::Timeout | rusb::Error::Interrupted) => {}
+            Err(e) => match classify(e) {
+                TransportError::Gone => return,
+                _ => {
+                    drop(events.try_send(UsbEvent::Error(e.to_string())));
+                    // Do not spin on a persistent error.
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+            },
+        }
+    }
+}
+
+impl Drop for UsbTransport {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(reader) = self.reader.take() {
+            // The thread notices within one READ_TIMEOUT; then the handle is released
+            // (interface released, kernel driver re-attached) when the last Arc drops.
+            let _ = reader.join();
+        }
+    }
+}
+
+impl Transport for UsbTransport {
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+
+    fn recv(
+        &mut self,
+        buf: &mut ReportBuf,
+        timeout: Duration,
+    ) -> Result<Option<usize>, TransportError> {
+        let event = if timeout.is_zero() {
+            match self.events.try_recv() {
+                Ok(event) => event,
+                Err(TryRecvError::Empty) => return Ok(None),
+                Err(TryRecvError::Disconnected) => return Err(TransportError::Gone),
+            }
+        } else {
+            match self.events.recv_timeout(timeout) {
+                Ok(event) => event,
+                Err(RecvTimeoutError::Timeout) => return Ok(None),
+                Err(RecvTimeoutError::Disconnected) => return Err(TransportError::Gone),
+            }
+        };
+        match event {
+            UsbEvent::Report { len, bytes } => {
+                *buf = bytes;
+                Ok(Some(len))
+            }
+            UsbEvent::Error(message) => Err(TransportError::Transient(BoardError::Usb(format!(
+                "{}: {message}",
+                self.name
+            )))),
+        }
+    }
+
+    fn send(&mut self, bytes: &[u8]) -> Result<(), TransportError> {
+        let written = match self.endpoints.out_address {
+            Some(endpoint) => self.handle.write_interrupt(endpoint, bytes, WRITE_TIMEOUT),
+            None => self.handle.write_control(
+                HID_SET_REPORT_REQUEST_TYPE,
+                HID_SET_REPORT,
+                HID_OUTPUT_REPORT_NO_ID,
+                u16::from(self.endpoints.interface),
+                bytes,
+                WRITE_TIMEOUT,
+            ),
+        }
+        .map_err(classify)?;
+        if written == bytes.len() {
+            Ok(())
+        } else {
+            Err(TransportError::Transient(BoardError::Usb(format!(
+                "{}: short OUT transfer ({written} of {} bytes)",
+                self.name,
+                bytes.len()
+            ))))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ep(address: u8, is_interrupt: bool) -> EndpointInfo {
+        EndpointInfo {
+            address,
+            is_in: address & 0x80 != 0,
+            is_interrupt,
+        }
+    }
+
+    fn alt(interface: u8, class: u8, endpoints: Vec<EndpointInfo>) -> AltSettingInfo {
+        AltSettingInfo {
+            interface,
+            alt_setting: 0,
+            class,
+            endpoints,
+        }
+    }
+
+    #[test]
+    fn endpoints_come_from_the_descriptor() {
+        // A vendor interface with bulk endpoints first, then the HID interface with
+        // unusual endpoint numbers: the HID one's addresses are used.
+        let config = [
+            alt(0, 0xFF, vec![ep(0x81, false), ep(0x01, false)]),
+            alt(2, HID_CLASS, vec![ep(0x05, true), ep(0x83, true)]),
+        ];
+        assert_eq!(
+            find_endpoints(&config),
+            Some(Endpoints {
+                interface: 2,
+                alt_setting: 0,
+                in_address: 0x83,
+                out_address: Some(0x05),
+            })
+        );
+    }
+
+    #[test]
+    fn hid_interface_preferred_then_one_with_an_out_endpoint() {
+        let vendor_with_both = alt(0, 0xFF, vec![ep(0x81, true), ep(0x01, true)]);
+        let hid_in_only = alt(1, HID_CLASS, vec![ep(0x82, true)]);
+        let hid_both = alt(3, HID_CLASS, vec![ep(0x84, true), ep(0x04, true)]);
+        let chosen = find_endpoints(&[vendor_with_both.clone(), hid_in_only.clone()]).unwrap();
+        assert_eq!((chosen.interface, chosen.out_address), (1, None));
+        let chosen = find_endpoints(&[vendor_with_both, hid_in_only, hid_both]).unwrap();
+        assert_eq!((chosen.interface, chosen.out_address), (3, Some(0x04)));
+    }
+
+    #[test]
+    fn no_interrupt_in_endpoint_means_no_usable_interface() {
+        assert_eq!(find_endpoints(&[]), None);
+        let config = [
+            alt(0, HID_CLASS, vec![ep(0x01, true)]),
+            alt(1, 0xFF, vec![ep(0x81, false)]),
+        ];
+        assert_eq!(find_endpoints(&config), None);
+    }
+
+    #[test]
+    fn enumerating_nothing_is_not_found() {
+        let none: Vec<(u16, u16, ())> = Vec::new();
+        let result: Result<(), _> = open_first_match(none, VENDOR_ID, PRODUCT_ID, |_| Ok(()));
+        assert!(matches!(
+            result,
+            Err(BoardError::NotFound {
+                vid: VENDOR_ID,
+                pid: PRODUCT_ID
+            })
+        ));
+        // Other devices on the bus are never opened.
+        let others = vec![
+            (0x046d, 0xc077, "mouse"),
+            (VENDOR_ID, 0x0002, "other test id"),
+        ];
+        let result: Result<(), _> = open_first_match(others, VENDOR_ID, PRODUCT_ID, |name| {
+            panic!("opened {name}")
+        });
+        let error = result.unwrap_err();
+        assert!(matches!(error, BoardError::NotFound { .. }));
+        assert!(error.to_string().contains("1209:0001"), "{error}");
+    }
+
+    #[test]
+    fn the_first_matching_device_that_opens_wins() {
+        let devices = vec![
+            (VENDOR_ID, PRODUCT_ID, 1),
+            (0x1234, 0x5678, 2),
+            (VENDOR_ID, PRODUCT_ID, 3),
+        ];
+        let mut tried = Vec::new();
+        let opened = open_first_match(devices, VENDOR_ID, PRODUCT_ID, |n| {
+            tried.push(n);
+            if n == 1 {
+                Err(BoardError::AccessDenied {
+                    vid: VENDOR_ID,
+                    pid: PRODUCT_ID,
+                })
+            } else {
+                Ok(n)
+            }
+        });
+        assert_eq!(opened.unwrap(), 3);
+        assert_eq!(tried, vec![1, 3]);
+    }
+
+    #[test]
+    fn a_board_that_cannot_be_opened_reports_why() {
+        let devices = vec![(VENDOR_ID, PRODUCT_ID, ())];
+        let result: Result<(), _> = open_first_match(devices, VENDOR_ID, PRODUCT_ID, |()| {
+            Err(open_error(
+                rusb::Error::Access,
+                VENDOR_ID,
+                PRODUCT_ID,
+                "opening",
+            ))
+        });
+        let error = result.unwrap_err();
+        assert!(matches!(error, BoardError::AccessDenied { .. }));
+        assert!(error.to_string().contains("udev"), "{error}");
+    }
+
+    #[test]
+    fn unplug_errors_drop_the_link_others_do_not() {
+        for gone in [rusb::Error::NoDevice, rusb::Error::Io, rusb::Error::Pipe] {
+            assert!(matches!(classify(gone), TransportError::Gone), "{gone}");
+        }
+        for transient in [
+            rusb::Error::Timeout,
+            rusb::Error::Busy,
+            rusb::Error::Overflow,
+            rusb::Error::Interrupted,
+        ] {
+            assert!(
+                matches!(
+                    classify(transient),
+                    TransportError::Transient(BoardError::Usb(_))
+                ),
+                "{transient}"
+            );
+        }
+    }
+}

@@ -1,0 +1,79 @@
+//! `UsbBoard` without hardware: no board plugged in.
+
+use std::time::Duration;
+
+use board_link::{Board, BoardError, LinkState, UsbBoard};
+use foosball_protocol::usb::{PRODUCT_ID, VENDOR_ID};
+use foosball_protocol::OutReport;
+
+#[test]
+fn open_without_a_board_is_not_found() {
+    match UsbBoard::open() {
+        Err(BoardError::NotFound { vid, pid }) => {
+            assert_eq!((vid, pid), (VENDOR_ID, PRODUCT_ID));
+            let message = BoardError::NotFound { vid, pid }.to_string();
+            assert!(message.contains("1209:0001"), "{message}");
+        }
+        // Developers with a board plugged in (and the udev rule installed) get here.
+        Ok(board) => eprintln!("a real board is plugged in: {}", board.name()),
+        Err(BoardError::AccessDenied { .. }) => {
+            eprintln!("a real board is plugged in but not accessible (udev rule?)")
+        }
+        Err(other) => panic!("expected NotFound, got {other:?}"),
+    }
+}
+
+#[test]
+fn open_ids_of_an_absent_device_is_not_found() {
+    // pid.codes test vendor with a product id no board uses.
+    let error = UsbBoard::open_ids(VENDOR_ID, 0xFFF0).unwrap_err();
+    assert!(
+        matches!(
+            error,
+            BoardError::NotFound {
+                vid: VENDOR_ID,
+                pid: 0xFFF0
+            }
+        ),
+        "{error:?}"
+    );
+}
+
+#[test]
+fn an_absent_board_is_polled_without_panicking() {
+    let mut board = UsbBoard::new(VENDOR_ID, 0xFFF0);
+    assert_eq!(board.ids(), (VENDOR_ID, 0xFFF0));
+    assert_eq!(board.link_state(), LinkState::Disconnected);
+    assert!(matches!(
+        board.poll_report(Duration::ZERO),
+        Err(BoardError::Disconnected)
+    ));
+    assert_eq!(board.link_state(), LinkState::Reconnecting);
+    assert!(matches!(
+        board.last_connect_error(),
+        Some(BoardError::NotFound { .. })
+    ));
+    assert!(matches!(
+        board.send(&OutReport::default()),
+        Err(BoardError::Disconnected)
+    ));
+    assert!(board.name().contains("1209:fff0"), "{}", board.name());
+}
+
+#[test]
+fn udev_rule_matches_the_protocol_ids() {
+    let rules = include_str!("../udev/70-space-foosball.rules");
+    let active: Vec<&str> = rules
+        .lines()
+        .filter(|line| !line.trim_start().starts_with('#') && !line.trim().is_empty())
+        .collect();
+    assert_eq!(active.len(), 2, "one usb and one hidraw rule");
+    let vendor = format!("ATTRS{{idVendor}}==\"{VENDOR_ID:04x}\"");
+    let product = format!("ATTRS{{idProduct}}==\"{PRODUCT_ID:04x}\"");
+    for line in &active {
+        assert!(line.contains(&vendor) && line.contains(&product), "{line}");
+        assert!(line.contains("TAG+=\"uaccess\""), "{line}");
+    }
+    assert!(active[0].starts_with("SUBSYSTEM==\"usb\""));
+    assert!(active[1].starts_with("SUBSYSTEM==\"hidraw\""));
+}

@@ -1,0 +1,197 @@
+//! `vphys peers …`: the shared peer models, Pinocchio fixtures and the ABA timing comparison.
+
+use anyhow::{bail, Context, Result};
+use clap::Subcommand;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use virtual_physics::dynamics::{aba, Workspace};
+use virtual_physics::measure::table3::time_ns;
+use virtual_physics::model::builders::{chain, humanoid, peer_models, random_state};
+use virtual_physics::model::description::ModelDescription;
+
+const INSTALL: &str = "Pinocchio is not installed for this Python: install it with `pip install pin` \
+     (or point --python at an interpreter that has it)";
+
+#[derive(Subcommand)]
+pub enum PeersCmd {
+    /// Writes the peer models' JSON descriptions (the single definition both sides read).
+    Models {
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Regenerates the Pinocchio reference fixtures (tests/fixtures/*.json).
+    Fixtures {
+        /// Output directory (default: the crate's tests/fixtures).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        py: Python,
+    },
+    /// Times our forward dynamics against Pinocchio's `aba` on the same models.
+    Aba {
+        /// One JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        py: Python,
+    },
+}
+
+#[derive(clap::Args)]
+pub struct Python {
+    /// Python interpreter with Pinocchio.
+    #[arg(long, default_value = "python3")]
+    python: String,
+    /// The peer script.
+    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/peers/pinocchio_fixtures.py"))]
+    script: PathBuf,
+}
+
+impl Python {
+    fn check(&self) -> Result<()> {
+        let ok = Command::new(&self.python)
+            .args(["-c", "import pinocchio"])
+            .output()
+            .map(|o| o.status.success())
+            .unwrap_or(false);
+        if !ok {
+            bail!(INSTALL);
+        }
+        Ok(())
+    }
+
+    fn run(&self, args: &[String]) -> Result<String> {
+        let out = Command::new(&self.python)
+            .arg(&self.script)
+            .args(args)
+            .output()
+            .with_context(|| format!("running {} {}", self.python, self.script.display()))?;
+        if !out.status.success() {
+            bail!(
+                "peer script failed: {}",
+                String::from_utf8_lossy(&out.stderr).trim()
+            );
+        }
+        Ok(String::from_utf8(out.stdout)?)
+    }
+}
+
+fn write_models(dir: &Path, models: &[ModelDescription]) -> Result<Vec<String>> {
+    std::fs::create_dir_all(dir)?;
+    models
+        .iter()
+        .map(|m| {
+            let p = dir.join(format!("{}.json", m.name));
+            std::fs::write(&p, m.to_json())?;
+            Ok(p.display().to_string())
+        })
+        .collect()
+}
+
+fn temp_dir() -> PathBuf {
+    std::env::temp_dir().join(format!("vphys-peers-{}", std::process::id()))
+}
+
+#[derive(Serialize)]
+struct Row {
+    model: String,
+    dofs: usize,
+    ours_us: f64,
+    pinocchio_us: f64,
+    ratio: f64,
+}
+
+#[derive(Serialize)]
+struct Report {
+    pinocchio: String,
+    ratio: &'static str,
+    rows: Vec<Row>,
+}
+
+/// µs per `aba` call of ours, cycling through 256 random states.
+fn time_ours(desc: &ModelDescription) -> Result<(usize, f64)> {
+    let tree = desc.build::<f64>()?;
+    let mut ws = Workspace::new(&tree);
+    let states: Vec<_> = (0..256).map(|k| random_state(&tree, 1000 + k)).collect();
+    let mut qdd = vec![0.0; tree.nv()];
+    let mut k = 0;
+    let ns = time_ns(|| {
+        let (q, qd, tau) = &states[k];
+        k = (k + 1) % states.len();
+        aba(&tree, &mut ws, q, qd, tau, None, &mut qdd).expect("aba");
+        qdd[0]
+    });
+    Ok((tree.nv(), ns / 1e3))
+}
+
+pub fn run(cmd: PeersCmd) -> Result<()> {
+    match cmd {
+        PeersCmd::Models { out } => {
+            for p in write_models(&out, &peer_models())? {
+                println!("wrote {p}");
+            }
+        }
+        PeersCmd::Fixtures { out, py } => {
+            py.check()?;
+            let out = out.unwrap_or_else(|| {
+                PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures"))
+            });
+            std::fs::create_dir_all(&out)?;
+            let dir = temp_dir();
+            let mut args = vec!["fixtures".to_string()];
+            args.extend(write_models(&dir, &peer_models())?);
+            args.extend(["--out".to_string(), out.display().to_string()]);
+            print!("{}", py.run(&args)?);
+            std::fs::remove_dir_all(&dir).ok();
+        }
+        PeersCmd::Aba { json, py } => {
+            py.check()?;
+            let models = vec![chain(7), chain(30), chain(100), humanoid()];
+            let dir = temp_dir();
+            let mut args = vec!["bench".to_string()];
+            args.extend(write_models(&dir, &models)?);
+            let peer: serde_json::Value = serde_json::from_str(&py.run(&args)?)?;
+            std::fs::remove_dir_all(&dir).ok();
+            let mut rows = Vec::new();
+            for m in &models {
+                let (dofs, ours) = time_ours(m)?;
+                let theirs = peer["us"][&m.name]
+                    .as_f64()
+                    .with_context(|| format!("no Pinocchio time for {}", m.name))?;
+                rows.push(Row {
+                    model: m.name.clone(),
+                    dofs,
+                    ours_us: ours,
+                    pinocchio_us: theirs,
+                    ratio: theirs / ours,
+                });
+            }
+            let report = Report {
+                pinocchio: peer["pinocchio"].as_str().unwrap_or("?").to_string(),
+                ratio: "pinocchio_us / ours_us (> 1: ours is faster)",
+                rows,
+            };
+            if json {
+                println!("{}", serde_json::to_string(&report)?);
+            } else {
+                println!(
+                    "forward dynamics (ABA), f64, µs per call; Pinocchio {} via abaInParallel(1 thread)",
+                    report.pinocchio
+                );
+                println!(
+                    "{:<10} {:>5} {:>10} {:>15} {:>22}",
+                    "model", "dofs", "ours µs", "pinocchio µs", "ratio (pinocchio/ours)"
+                );
+                for r in &report.rows {
+                    println!(
+                        "{:<10} {:>5} {:>10.3} {:>15.3} {:>22.2}",
+                        r.model, r.dofs, r.ours_us, r.pinocchio_us, r.ratio
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,34 @@
+//! # Virtual Physics
+//!
+//! The physics engine of Space Foosball (paper §4), part 1: the Lie-group algebra of
+//! rigid-body motion written in the geometric form of Eq. (4), articulated models
+//! (trees of bodies connected by joints) and their recursive dynamics.
+//!
+//! * [`algebra`] — `SE3`, `se3` (twists), `dse3` (wrenches), `Inertia`, `AInertia` and the
+//!   operations of the paper's Appendix B, generic over the scalar ([`Real`]).
+//! * [`model`] — joints (one type per file, behind the [`model::Joint`] trait), bodies and
+//!   articulated trees, and their JSON description shared with the Pinocchio peer script.
+//! * [`dynamics`] — the articulated-body forward dynamics of Appendix A, recursive inverse
+//!   dynamics (RNEA), the joint-space mass matrix, and the single-body Eq. (3).
+//! * [`measure`] — operation counting (a counting scalar) and the matrix-form baseline that
+//!   reproduce the paper's Table 3.
+//!
+//! ## Conventions (used everywhere)
+//! * A twist `se3 = (w, v)`: angular part first, then linear; a wrench `dse3 = (m, f)`:
+//!   moment first, then force. Both are expressed in a body frame unless said otherwise.
+//! * `⟨F, V⟩ = m·w + f·v` (power, W).
+//! * `SE3 (R, p)` written `T_ab` is the pose of frame `b` in frame `a`: `x_a = R x_b + p`.
+//!   `Ad(T_ab)` maps a twist in `b` coordinates to `a` coordinates; `dAd(T_ab) = Ad(T_ab)ᵀ`
+//!   maps a wrench in `a` coordinates to `b` coordinates.
+//! * Rigid body (Eq. 3): `F = J V̇ − ad*_V J V` with `ad*_V F = ad_Vᵀ F = (m × w + f × v, f × w)`
+//!   exactly as Eq. (4). (The paper prints Eq. (3) with `+`; with the `ad*` of Eq. (4) the sign
+//!   is `−`, as Appendix A writes it.)
+//! * SI units: m, kg, s, rad, N, N·m.
+
+pub mod algebra;
+pub mod dynamics;
+pub mod measure;
+pub mod model;
+mod real;
+
+pub use real::Real;

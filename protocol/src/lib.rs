@@ -1,0 +1,30 @@
+//! The USB protocol between the Space Foosball sensor board and the host.
+//!
+//! `no_std`, no allocation: the firmware and the host compile this one crate, so the
+//! byte layouts cannot drift apart.
+//!
+//! * [`InReport`]: device → host every 1 ms, the motion of all eight paddles since the
+//!   previous report ([`PaddleMotion`]) plus a wrapping sequence number.
+//! * [`OutReport`]: host → device, a haptic pulse per paddle ([`HapticPulse`]) and the
+//!   status LED.
+//! * [`usb`]: vendor/product ids, endpoint sizes and the HID report descriptor.
+//!
+//! All multi-byte fields are little-endian. Every report starts with
+//! [`FORMAT_VERSION`]; a decoder rejects any other version.
+#![no_std]
+#![deny(missing_docs)]
+
+mod error;
+mod in_report;
+mod out_report;
+pub mod usb;
+
+pub use error::{DecodeError, EncodeError};
+pub use in_report::{InReport, PaddleMotion, PaddleStatus, IN_REPORT_LEN};
+pub use out_report::{HapticPulse, LedState, OutReport, OUT_REPORT_LEN};
+
+/// Number of paddles (rods) on the cabinet, and so of PS/2 sensors on the board.
+pub const PADDLES: usize = 8;
+
+/// Layout version carried in the first byte of every report.
+pub const FORMAT_VERSION: u8 = 1;
