@@ -4,7 +4,7 @@
 //! development and not for products. To ship boards, request a product id from
 //! pid.codes (open-source hardware) or use your own vendor id, change
 //! [`VENDOR_ID`]/[`PRODUCT_ID`] here, and update the host's udev rule
-//! (`host/udev/99-space-foosball.rules`): both ends read these constants.
+//! (`host/board-link/udev/70-space-foosball.rules`): both ends read these constants.
 
 use crate::{IN_REPORT_LEN, OUT_REPORT_LEN};
 

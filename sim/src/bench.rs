@@ -65,7 +65,9 @@ pub fn run(seconds: f64) -> Result<BenchResult, SimError> {
     let totals = |b: &EmulatedBoard| {
         (0..PADDLES)
             .filter_map(|p| b.port_stats(p))
-            .fold((0, 0), |(f, k), s| (f + s.frames_received, k + s.packets_sent))
+            .fold((0, 0), |(f, k), s| {
+                (f + s.frames_received, k + s.packets_sent)
+            })
     };
     let (frames0, packets0) = totals(&board);
     let reports = (seconds * 1000.0).round() as u64;

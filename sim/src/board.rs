@@ -449,7 +449,8 @@ impl EmulatedBoard {
         }
         let now_us = self.now_ns / NS_PER_US;
         if let Some(byte) = self.firmware.poll(index, now_us) {
-            port.wire.start_host_send(self.now_ns, byte, &mut port.mouse);
+            port.wire
+                .start_host_send(self.now_ns, byte, &mut port.mouse);
         }
     }
 

@@ -150,12 +150,7 @@ mod tests {
         )
         .unwrap();
         assert_eq!(f[0].fault, Fault::Unplug);
-        assert_eq!(
-            f[1].fault,
-            Fault::ParityErrorRate {
-                probability: 0.01
-            }
-        );
+        assert_eq!(f[1].fault, Fault::ParityErrorRate { probability: 0.01 });
         assert_eq!(f[2].fault, Fault::DropBytes { count: 1 });
         assert!(Fault::DropRate { probability: 1.5 }.validate().is_err());
         assert!(Fault::DropRate { probability: 0.5 }.validate().is_ok());

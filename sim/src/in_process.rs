@@ -185,15 +185,22 @@ mod tests {
 
     #[test]
     fn real_time_paces_at_one_report_per_ms() {
-        let (mut board, live) =
-            InProcessBoard::live(BoardConfig::default(), LiveLimits::default(), Pacing::RealTime)
-                .unwrap();
+        let (mut board, live) = InProcessBoard::live(
+            BoardConfig::default(),
+            LiveLimits::default(),
+            Pacing::RealTime,
+        )
+        .unwrap();
         assert!(live.set_target(0, RodPose::new(0.05, 0.0)));
         assert_eq!(board.poll_report(Duration::ZERO).unwrap(), None);
         let start = Instant::now();
         let mut n = 0;
         while start.elapsed() < Duration::from_millis(200) {
-            if board.poll_report(Duration::from_millis(5)).unwrap().is_some() {
+            if board
+                .poll_report(Duration::from_millis(5))
+                .unwrap()
+                .is_some()
+            {
                 n += 1;
             }
         }

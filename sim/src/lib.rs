@@ -30,9 +30,9 @@ pub mod pacing;
 pub mod ps2_device;
 pub mod rng;
 pub mod sensor_model;
-// pub mod serve;
-// pub mod usb_device;
-// pub mod usbip;
+pub mod serve;
+pub mod usb_device;
+pub mod usbip;
 
 pub use board::{BoardConfig, EmulatedBoard, HapticEvent, PortStats};
 pub use error::SimError;

@@ -240,8 +240,14 @@ mod tests {
             let (x, y) = run(SensorParams::default(), cpm, to, 2000);
             let want_x = 123.4 * cpm;
             let want_y = 8.0 * TAU * cpm;
-            assert!((x as f64 - want_x).abs() <= 0.5 + 1e-9, "{cpm}: {x} vs {want_x}");
-            assert!((y as f64 - want_y).abs() <= 0.5 + 1e-9, "{cpm}: {y} vs {want_y}");
+            assert!(
+                (x as f64 - want_x).abs() <= 0.5 + 1e-9,
+                "{cpm}: {x} vs {want_x}"
+            );
+            assert!(
+                (y as f64 - want_y).abs() <= 0.5 + 1e-9,
+                "{cpm}: {y} vs {want_y}"
+            );
         }
     }
 

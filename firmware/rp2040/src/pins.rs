@@ -6,9 +6,15 @@
 //!
 //! | function | GPIO | Pico pin |
 //! |---|---|---|
-//! | PS/2 port *n* data (n = 0..8) | 2n | see README |
-//! | PS/2 port *n* clock | 2n + 1 | see README |
-//! | haptic motor 0..6 PWM | 16..22 | 21, 22, 24, 25, 26, 27, 29 |
+//! | PS/2 port 0 data / clock | 0 / 1 | 1 / 2 |
+//! | PS/2 port 1 data / clock | 2 / 3 | 4 / 5 |
+//! | PS/2 port 2 data / clock | 4 / 5 | 6 / 7 |
+//! | PS/2 port 3 data / clock | 6 / 7 | 9 / 10 |
+//! | PS/2 port 4 data / clock | 8 / 9 | 11 / 12 |
+//! | PS/2 port 5 data / clock | 10 / 11 | 14 / 15 |
+//! | PS/2 port 6 data / clock | 12 / 13 | 16 / 17 |
+//! | PS/2 port 7 data / clock | 14 / 15 | 19 / 20 |
+//! | haptic motors 0..=6 PWM | 16..=22 | 21, 22, 24, 25, 26, 27, 29 |
 //! | haptic motor 7 PWM | 28 | 34 |
 //! | status LED | 25 | on board |
 //!
@@ -17,10 +23,9 @@
 //! be consecutive, data first.
 
 use embassy_rp::peripherals::{
-    PIN_0, PIN_1, PIN_10, PIN_11, PIN_12, PIN_13, PIN_14, PIN_15, PIN_16, PIN_17, PIN_18,
-    PIN_19, PIN_2, PIN_20, PIN_21, PIN_22, PIN_25, PIN_28, PIN_3, PIN_4, PIN_5, PIN_6,
-    PIN_7, PIN_8, PIN_9, PIO0, PIO1, PWM_SLICE0, PWM_SLICE1, PWM_SLICE2, PWM_SLICE3,
-    PWM_SLICE6, USB, WATCHDOG,
+    PIN_0, PIN_1, PIN_10, PIN_11, PIN_12, PIN_13, PIN_14, PIN_15, PIN_16, PIN_17, PIN_18, PIN_19,
+    PIN_2, PIN_20, PIN_21, PIN_22, PIN_25, PIN_28, PIN_3, PIN_4, PIN_5, PIN_6, PIN_7, PIN_8, PIN_9,
+    PIO0, PIO1, PWM_SLICE0, PWM_SLICE1, PWM_SLICE2, PWM_SLICE3, PWM_SLICE6, USB, WATCHDOG,
 };
 use embassy_rp::{Peri, Peripherals};
 
@@ -62,11 +67,23 @@ pub struct Ps2Pins {
 /// motor 7 channel A of slice 6 (GPIO 23 and 24 are not on the Pico's header).
 pub struct HapticPins {
     /// Slice 0: motors 0 (GPIO 16, A) and 1 (GPIO 17, B).
-    pub slice0: (Peri<'static, PWM_SLICE0>, Peri<'static, PIN_16>, Peri<'static, PIN_17>),
+    pub slice0: (
+        Peri<'static, PWM_SLICE0>,
+        Peri<'static, PIN_16>,
+        Peri<'static, PIN_17>,
+    ),
     /// Slice 1: motors 2 (GPIO 18, A) and 3 (GPIO 19, B).
-    pub slice1: (Peri<'static, PWM_SLICE1>, Peri<'static, PIN_18>, Peri<'static, PIN_19>),
+    pub slice1: (
+        Peri<'static, PWM_SLICE1>,
+        Peri<'static, PIN_18>,
+        Peri<'static, PIN_19>,
+    ),
     /// Slice 2: motors 4 (GPIO 20, A) and 5 (GPIO 21, B).
-    pub slice2: (Peri<'static, PWM_SLICE2>, Peri<'static, PIN_20>, Peri<'static, PIN_21>),
+    pub slice2: (
+        Peri<'static, PWM_SLICE2>,
+        Peri<'static, PIN_20>,
+        Peri<'static, PIN_21>,
+    ),
     /// Slice 3: motor 6 (GPIO 22, A).
     pub slice3: (Peri<'static, PWM_SLICE3>, Peri<'static, PIN_22>),
     /// Slice 6: motor 7 (GPIO 28, A).

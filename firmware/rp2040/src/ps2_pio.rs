@@ -24,11 +24,11 @@
 //! time limit, so when no completion arrives in [`SEND_TIMEOUT_US`] the port reports
 //! the failure and restarts its state machine.
 
-use embassy_rp::pio::program::{pio_asm, InstructionOperands, SetDestination};
 use embassy_rp::peripherals::{PIO0, PIO1};
+use embassy_rp::pio::program::{pio_asm, InstructionOperands, SetDestination};
 use embassy_rp::pio::{
-    Common, Config, Direction, Instance, LoadedProgram, Pio, PioPin, ShiftConfig,
-    ShiftDirection, StateMachine,
+    Common, Config, Direction, Instance, LoadedProgram, Pio, PioPin, ShiftConfig, ShiftDirection,
+    StateMachine,
 };
 use embassy_rp::pio_programs::clock_divider::calculate_pio_clock_divider;
 use embassy_rp::{gpio, Peri};
@@ -75,57 +75,62 @@ pub struct Ps2Program<'d, PIO: Instance> {
 impl<'d, PIO: Instance> Ps2Program<'d, PIO> {
     /// Assembles the program and loads it into the block's instruction memory.
     pub fn new(common: &mut Common<'d, PIO>) -> Self {
-        // Pins: IN base = data, so `pin 0` is data and `pin 1` the clock; JMP pin =
-        // clock; SET base = data, 2 pins (bit 0 data, bit 1 clock, as pin
-        // directions: 1 = pull low); OUT base = data, 1 pin.
-        // ISR shifts right, autopush at 11 bits; OSR shifts right, pull threshold
-        // 10 (so `!osre` counts the 10 command bits), no autopull.
-        // One cycle = 1 µs.
         let assembled = pio_asm!(
-            "receive:",
-            "    set y, 10",                // 11 bits: start, 8 data, parity, stop
-            "rx_bit:",
-            "    in pins, 1",               // sample data while clock is low; autopush at 11
-            "    wait 1 pin 1",             // clock released
-            "    jmp y--, rx_next",
-            "    jmp idle",                 // frame complete (pushed by autopush)
-            "rx_next:",
-            "    set x, 31",                // clock high at most 32 x 4 us inside a frame
-            "rx_wait:",
-            "    jmp pin, rx_high",
-            "    jmp rx_bit",               // clock low: next bit
-            "rx_high:",
-            "    jmp x--, rx_wait [2]",
-            "    mov isr, null",            // timeout: drop the partial frame, resync
-            ".wrap_target",
-            "public idle:",
-            "    set x, 0",                 // pull noblock copies X when the TX FIFO is empty
-            "idle_loop:",
-            "    jmp pin, check_tx",        // clock high: line idle
-            "    jmp receive",              // clock low: the device sends a start bit
-            "check_tx:",
-            "    pull noblock",
-            "    mov x, osr",
-            "    jmp !x, idle_loop",        // nothing to send
-            // Request-to-send. OSR: the 10 command bits inverted (1 = pull low), LSB first.
-            "    set pindirs, 2",           // inhibit: clock low, data released
-            "    set x, 31",
-            "hold:",
-            "    jmp x--, hold [3]",        // clock low for 32 x 4 us
-            "    set pindirs, 3 [4]",       // data low too: the start bit
-            "    set pindirs, 1",           // release the clock
-            "    wait 1 pin 1",             // clock back high
-            "    wait 0 pin 1",             // the device starts clocking
-            "public tx_bits:",
-            "    out pindirs, 1",           // next bit while the clock is low
-            "    wait 1 pin 1",             // the device samples on the rising edge
-            "    wait 0 pin 1",
-            "    jmp !osre, tx_bits",
-            "    mov isr, ~null",           // 11th clock low: the ACK
-            "    in pins, 1",               // bit 31 = data line, 0 = acknowledged
-            "    push noblock",
-            "    wait 1 pin 1",             // end of the ACK clock
-            ".wrap",
+            r#"
+            ; Pins: IN base = data, so `pin 0` is data and `pin 1` the clock; JMP pin =
+            ; clock; SET base = data, 2 pins (bit 0 data, bit 1 clock) written as pin
+            ; directions (1 = pull low); OUT base = data, 1 pin, also as direction.
+            ; ISR shifts right with autopush at 11 bits; OSR shifts right, pull
+            ; threshold 10 (so `!osre` counts the 10 command bits), no autopull.
+            ; One cycle = 1 us.
+
+            receive:
+                set y, 10                 ; 11 bits: start, 8 data, parity, stop
+            rx_bit:
+                in pins, 1                ; sample data while the clock is low
+                wait 1 pin 1              ; clock released
+                jmp y--, rx_next
+                jmp idle                  ; frame complete (autopush has sent it)
+            rx_next:
+                set x, 31                 ; the clock may stay high 32 x 4 us
+            rx_wait:
+                jmp pin, rx_high
+                jmp rx_bit                ; clock low: the next bit
+            rx_high:
+                jmp x--, rx_wait [2]
+                mov isr, null             ; timed out: drop the partial frame
+
+            .wrap_target
+            public idle:
+                set x, 0                  ; `pull noblock` copies X if the FIFO is empty
+            idle_loop:
+                jmp pin, check_tx         ; clock high: the line is idle
+                jmp receive               ; clock low: the device sends a start bit
+            check_tx:
+                pull noblock
+                mov x, osr
+                jmp !x, idle_loop         ; nothing to send
+
+            ; Request-to-send. OSR: the 10 command bits inverted (1 = pull low).
+                set pindirs, 2            ; inhibit: clock low, data released
+                set x, 31
+            hold:
+                jmp x--, hold [3]         ; hold the clock low 32 x 4 us
+                set pindirs, 3 [4]        ; data low too: the start bit
+                set pindirs, 1            ; release the clock
+                wait 1 pin 1              ; clock back high
+                wait 0 pin 1              ; the device starts clocking
+            public tx_bits:
+                out pindirs, 1            ; the next bit, while the clock is low
+                wait 1 pin 1              ; the device samples on the rising edge
+                wait 0 pin 1
+                jmp !osre, tx_bits
+                mov isr, ~null            ; 11th clock low: the ACK
+                in pins, 1                ; bit 31 = data line, 0 = acknowledged
+                push noblock
+                wait 1 pin 1              ; end of the ACK clock
+            .wrap
+            "#
         );
         let program = common.load_program(&assembled.program);
         Self {
@@ -182,7 +187,10 @@ impl<'d, PIO: Instance, const SM: usize> PioPs2Port<'d, PIO, SM> {
     ) -> Self {
         let mut data = common.make_pio_pin(data);
         let mut clock = common.make_pio_pin(clock);
-        assert!(clock.pin() == data.pin() + 1, "PS/2 clock must be the GPIO after data");
+        assert!(
+            clock.pin() == data.pin() + 1,
+            "PS/2 clock must be the GPIO after data"
+        );
         data.set_pull(gpio::Pull::Up);
         clock.set_pull(gpio::Pull::Up);
         // Output latches 0 for good: the program only changes pin directions.

@@ -58,13 +58,23 @@ fn service(ports: &mut Ps2Ports, board: &mut SensorBoard, now_us: u64) {
     }
 }
 
-/// Services the ports forever, feeding the watchdog after every pass.
+/// Services the ports forever, feeding the watchdog after every pass and logging
+/// when a sensor comes or goes.
 #[embassy_executor::task]
 pub async fn sensor_task(mut ports: Ps2Ports, mut watchdog: Watchdog) -> ! {
     let mut ticker = Ticker::every(PASS_PERIOD);
+    let mut present = 0u8;
     loop {
         let now = now_us();
-        BOARD.lock(|board| service(&mut ports, &mut board.borrow_mut(), now));
+        let mask = BOARD.lock(|board| {
+            let mut board = board.borrow_mut();
+            service(&mut ports, &mut board, now);
+            board.present_mask()
+        });
+        if mask != present {
+            defmt::info!("sensors present (bit = port): {=u8:08b}", mask);
+            present = mask;
+        }
         watchdog.feed();
         ticker.next().await;
     }

@@ -14,8 +14,8 @@
 use embassy_rp::peripherals::USB;
 use embassy_rp::usb::Driver;
 use embassy_usb::class::hid::{
-    self, HidBootProtocol, HidReader, HidReaderWriter, HidSubclass, HidWriter, ReadError,
-    ReportId, RequestHandler,
+    self, HidBootProtocol, HidReader, HidReaderWriter, HidSubclass, HidWriter, ReadError, ReportId,
+    RequestHandler,
 };
 use embassy_usb::control::OutResponse;
 use embassy_usb::{Builder, UsbDevice, UsbVersion};

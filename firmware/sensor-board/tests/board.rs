@@ -206,7 +206,9 @@ fn overflow_flags_follow_the_axis_map() {
     .to_bytes();
     for port in 0..2 {
         for byte in bytes {
-            bench.board.on_frame(port, bench.now, Ps2Frame::encode(byte));
+            bench
+                .board
+                .on_frame(port, bench.now, Ps2Frame::encode(byte));
         }
     }
     let report = bench.board.take_report(bench.now);

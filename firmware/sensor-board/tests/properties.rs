@@ -57,13 +57,15 @@ fn config() -> impl Strategy<Value = MouseConfig> {
         prop_oneof![Just(0), Just(u64::MAX), 0..100_000u64],
         prop_oneof![Just(0), Just(u64::MAX), 0..200_000u64],
     )
-        .prop_map(|(sample_rate, code, self_test, reply, silence)| MouseConfig {
-            sample_rate,
-            resolution: Resolution::from_code(code).unwrap_or_default(),
-            self_test_timeout_us: self_test,
-            reply_timeout_us: reply,
-            silence_timeout_us: silence,
-        })
+        .prop_map(
+            |(sample_rate, code, self_test, reply, silence)| MouseConfig {
+                sample_rate,
+                resolution: Resolution::from_code(code).unwrap_or_default(),
+                self_test_timeout_us: self_test,
+                reply_timeout_us: reply,
+                silence_timeout_us: silence,
+            },
+        )
 }
 
 /// Applies `ops` to `driver`, checking invariants; returns the last time used.
@@ -90,14 +92,21 @@ fn apply(driver: &mut MouseDriver, ops: &[Op]) -> u64 {
             Op::Jump(to) => now = to,
         }
         latest = latest.max(now);
-        assert_eq!(driver.is_present(), driver.state() == DriverState::Streaming);
+        assert_eq!(
+            driver.is_present(),
+            driver.state() == DriverState::Streaming
+        );
     }
     latest
 }
 
 fn check_packet(driver: &MouseDriver, got_packet: bool) {
     if got_packet {
-        assert_eq!(driver.state(), DriverState::Streaming, "packets only when streaming");
+        assert_eq!(
+            driver.state(),
+            DriverState::Streaming,
+            "packets only when streaming"
+        );
     }
 }
 

@@ -18,7 +18,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
     #[test]
-    fn log_exp_round_trip_generic(d in vec3(1.0), theta in 0.0..3.14f64, v in vec3(3.0)) {
+    fn log_exp_round_trip_generic(d in vec3(1.0), theta in 0.0..3.1f64, v in vec3(3.0)) {
         let xi = se3::new(unit(d) * theta, v);
         let back = SE3::exp(&xi).log();
         prop_assert!(close6(back.to_array(), xi.to_array(), 1e-11), "{xi:?} -> {back:?}");
@@ -156,8 +156,6 @@ proptest! {
         let lhs = (f * g).mul_twist(&v);
         let rhs = (f * g.dot(&v) + g * f.dot(&v)) * 0.5;
         prop_assert!(close6(lhs.to_array(), rhs.to_array(), 1e-12));
-        prop_assert!(close6(f.kron(&f).to_matrix6().as_slice().try_into().map(|a: [f64; 6]| a).unwrap_or([0.0; 6]),
-                            f.kron_self(1.0).to_matrix6().as_slice().try_into().map(|a: [f64; 6]| a).unwrap_or([0.0; 6]), 1e-14));
         prop_assert!(close_m6(&f.kron(&f).to_matrix6(), &f.kron_self(1.0).to_matrix6(), 1e-14));
         prop_assert!(close(v * f, f * v, 0.0));
     }
@@ -165,7 +163,10 @@ proptest! {
 
 #[test]
 fn exp_of_known_rotation() {
-    let t = SE3::exp(&se3::new(Vec3::new(0.0, 0.0, std::f64::consts::FRAC_PI_2), Vec3::new(1.0, 0.0, 0.0)));
+    let t = SE3::exp(&se3::new(
+        Vec3::new(0.0, 0.0, std::f64::consts::FRAC_PI_2),
+        Vec3::new(1.0, 0.0, 0.0),
+    ));
     // Quarter turn about z.
     assert!((t.r * Vec3::new(1.0, 0.0, 0.0) - Vec3::new(0.0, 1.0, 0.0)).norm() < 1e-15);
     // Screw motion: p = (I + B[w] + C[w]²) v with θ = π/2: (2/π, 2/π, 0).

@@ -15,6 +15,7 @@ use super::{MotionSource, RodPose, RodPoses};
 use foosball_protocol::PADDLES;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, PoisonError};
 
 /// Format version written and accepted.
 pub const RECORDING_VERSION: u32 = 1;
@@ -58,12 +59,45 @@ pub struct RecordingFile {
     pub samples: Vec<Sample>,
 }
 
-/// Records poses from any [`MotionSource`] (e.g. live play) as it is driven.
-#[derive(Debug, Clone)]
+/// Records poses from any [`MotionSource`] (e.g. live play) as it is driven. The
+/// recorder goes into the board; its [`RecordingHandle`] stays with the caller to save
+/// the recording during or after the run.
+#[derive(Debug)]
 pub struct Recorder<S> {
     inner: S,
-    samples: Vec<Sample>,
+    samples: Arc<Mutex<Vec<Sample>>>,
     min_interval_us: u64,
+}
+
+/// Access to what a [`Recorder`] recorded.
+#[derive(Debug, Clone, Default)]
+pub struct RecordingHandle {
+    samples: Arc<Mutex<Vec<Sample>>>,
+}
+
+impl RecordingHandle {
+    /// Number of samples so far.
+    pub fn len(&self) -> usize {
+        self.lock().len()
+    }
+
+    /// Whether nothing was recorded yet.
+    pub fn is_empty(&self) -> bool {
+        self.lock().is_empty()
+    }
+
+    /// The recording so far, ready to save.
+    pub fn recording(&self) -> RecordingFile {
+        RecordingFile {
+            version: RECORDING_VERSION,
+            samples: self.lock().clone(),
+        }
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Vec<Sample>> {
+        // Samples are appended whole: a panic elsewhere cannot leave them inconsistent.
+        self.samples.lock().unwrap_or_else(PoisonError::into_inner)
+    }
 }
 
 impl<S: MotionSource> Recorder<S> {
@@ -71,20 +105,14 @@ impl<S: MotionSource> Recorder<S> {
     pub fn new(inner: S, min_interval_us: u64) -> Self {
         Self {
             inner,
-            samples: Vec::new(),
+            samples: Arc::default(),
             min_interval_us: min_interval_us.max(1),
         }
     }
 
-    /// The samples so far.
-    pub fn samples(&self) -> &[Sample] {
-        &self.samples
-    }
-
-    /// The recording so far, ready to save.
-    pub fn recording(&self) -> RecordingFile {
-        RecordingFile {
-            version: RECORDING_VERSION,
+    /// The handle to read the recording.
+    pub fn handle(&self) -> RecordingHandle {
+        RecordingHandle {
             samples: self.samples.clone(),
         }
     }
@@ -93,12 +121,13 @@ impl<S: MotionSource> Recorder<S> {
 impl<S: MotionSource> MotionSource for Recorder<S> {
     fn poses_at(&mut self, t_us: u64) -> RodPoses {
         let poses = self.inner.poses_at(t_us);
-        let due = match self.samples.last() {
+        let mut samples = self.samples.lock().unwrap_or_else(PoisonError::into_inner);
+        let due = match samples.last() {
             None => true,
             Some(last) => t_us >= last.t_us + self.min_interval_us,
         };
         if due {
-            self.samples.push(Sample { t_us, poses });
+            samples.push(Sample { t_us, poses });
         }
         poses
     }
@@ -218,13 +247,15 @@ mod tests {
         )
         .unwrap();
         let mut rec = Recorder::new(script.clone(), 1000);
+        let handle = rec.handle();
+        assert!(handle.is_empty());
         for t in (0..=200_000).step_by(250) {
             rec.poses_at(t);
         }
-        assert_eq!(rec.samples().len(), 201);
+        assert_eq!(handle.len(), 201);
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("rec.json");
-        rec.recording().save(&path).unwrap();
+        handle.recording().save(&path).unwrap();
         let mut play = Playback::load(&path).unwrap();
         assert_eq!(play.duration_us(), 200_000);
         for t in [0u64, 12_345, 50_000, 99_999, 150_000, 1_000_000] {
@@ -238,7 +269,7 @@ mod tests {
     #[test]
     fn bad_recordings_rejected() {
         let pose = r#"{"axial_m":0,"angle_rad":0}"#;
-        let poses = format!("[{}]", vec![pose; 8].join(","));
+        let poses = format!("[{}]", [pose; 8].join(","));
         let ok = format!(r#"{{"version":1,"samples":[{{"t_us":0,"poses":{poses}}}]}}"#);
         assert!(Playback::from_json(&ok).is_ok());
         let e = Playback::from_json(&ok.replace("\"version\":1", "\"version\":2"))
@@ -254,7 +285,7 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("no samples"), "{e}");
-        let seven = format!("[{}]", vec![pose; 7].join(","));
+        let seven = format!("[{}]", [pose; 7].join(","));
         let e = Playback::from_json(&format!(
             r#"{{"version":1,"samples":[{{"t_us":0,"poses":{seven}}}]}}"#
         ))

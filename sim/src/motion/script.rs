@@ -172,7 +172,8 @@ impl MotionScript {
         let mut duration_us: f64 = 0.0;
         for (track_index, track) in spec.rods.iter().enumerate() {
             let here = |what: &str| format!("rods[{track_index}] (rod {}){what}", track.rod);
-            let invalid = |location: String, reason: String| ScriptError::Invalid { location, reason };
+            let invalid =
+                |location: String, reason: String| ScriptError::Invalid { location, reason };
             if track.rod >= PADDLES {
                 return Err(invalid(
                     format!("rods[{track_index}]"),
@@ -220,7 +221,10 @@ impl MotionScript {
                     Segment::Hold { .. } => pose,
                 };
                 check_pose(to).map_err(|reason| {
-                    invalid(location(), format!("pose at the end of the segment: {reason}"))
+                    invalid(
+                        location(),
+                        format!("pose at the end of the segment: {reason}"),
+                    )
                 })?;
                 let t1_s = t_s + d;
                 if t1_s > MAX_SCRIPT_DURATION_S {
@@ -350,9 +354,9 @@ impl MotionSource for MotionScript {
     fn poses_at(&mut self, t_us: u64) -> RodPoses {
         let t = t_us as f64;
         let mut out = self.start;
-        for rod in 0..PADDLES {
-            let (pose, cursor) = pose_in(&self.pieces[rod], self.start[rod], self.cursor[rod], t);
-            out[rod] = pose;
+        for (rod, pose) in out.iter_mut().enumerate() {
+            let (at, cursor) = pose_in(&self.pieces[rod], self.start[rod], self.cursor[rod], t);
+            *pose = at;
             self.cursor[rod] = cursor;
         }
         out
@@ -405,7 +409,10 @@ mod tests {
     #[test]
     fn bad_scripts_give_clear_errors() {
         let e = error_of(r#"{"rods":[{"rod":9,"segments":[]}]}"#);
-        assert!(e.contains("rods[0]") && e.contains("rod must be 0–7, got 9"), "{e}");
+        assert!(
+            e.contains("rods[0]") && e.contains("rod must be 0–7, got 9"),
+            "{e}"
+        );
         let e = error_of(r#"{"rods":[{"rod":1,"segments":[]},{"rod":1,"segments":[]}]}"#);
         assert!(e.contains("rods[1] (rod 1)") && e.contains("twice"), "{e}");
         let e = error_of(r#"{"rods":[{"rod":1,"segments":[{"hold":{"duration_s":-1}}]}]}"#);
@@ -424,9 +431,8 @@ mod tests {
         assert!(e.contains("unknown field"), "{e}");
         let e = error_of(r#"{"faults":[{"at_s":1,"port":8,"fault":"plug"}]}"#);
         assert!(e.contains("faults[0]") && e.contains("port"), "{e}");
-        let e = error_of(
-            r#"{"faults":[{"at_s":1,"port":0,"fault":{"drop_rate":{"probability":2}}}]}"#,
-        );
+        let e =
+            error_of(r#"{"faults":[{"at_s":1,"port":0,"fault":{"drop_rate":{"probability":2}}}]}"#);
         assert!(e.contains("probability"), "{e}");
         let e = error_of("not json");
         assert!(e.contains("not valid JSON"), "{e}");

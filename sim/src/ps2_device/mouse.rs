@@ -541,7 +541,10 @@ mod tests {
         // 10 mm axial (80 counts), −1 mm surface (−8 counts) by the next sample.
         m.observe(t + 15_000, RodPose::new(0.01, -0.125));
         m.tick(t + 20_000);
-        assert_eq!(drain(&mut m, t + 20_000), vec![0x08 | 0x20, 80, (-8i16) as u8]);
+        assert_eq!(
+            drain(&mut m, t + 20_000),
+            vec![0x08 | 0x20, 80, (-8i16) as u8]
+        );
         // 40 mm = 320 counts: clamped to 255 with X overflow.
         m.observe(t + 29_000, RodPose::new(0.05, -0.125));
         m.tick(t + 30_000);

@@ -161,7 +161,7 @@ pub struct Wire {
 /// The 11 bits a well-behaved device puts on the data line for `byte`, bit 0 first;
 /// `invert_parity` flips the parity bit (fault injection).
 pub fn device_frame_bits(byte: u8, invert_parity: bool) -> u16 {
-    let odd_parity = (byte.count_ones() % 2 == 0) != invert_parity;
+    let odd_parity = byte.count_ones().is_multiple_of(2) != invert_parity;
     (u16::from(byte) << 1) | (u16::from(odd_parity) << 9) | (1 << 10)
 }
 
@@ -171,7 +171,7 @@ fn device_decode(bits: u16) -> Result<u8, ()> {
     let byte = bits as u8;
     let parity = bits & (1 << 8) != 0;
     let stop = bits & (1 << 9) != 0;
-    if stop && parity == (byte.count_ones() % 2 == 0) {
+    if stop && parity == byte.count_ones().is_multiple_of(2) {
         Ok(byte)
     } else {
         Err(())
@@ -250,9 +250,9 @@ impl Wire {
                             None if faults.device_active() && mouse.accepts_commands() => {
                                 Some(send.step_start_ns + self.params.rts_response_us * 1000)
                             }
-                            None => Some(
-                                send.step_start_ns + self.params.clock_start_timeout_us * 1000,
-                            ),
+                            None => {
+                                Some(send.step_start_ns + self.params.clock_start_timeout_us * 1000)
+                            }
                             Some(start) if active => {
                                 Some(start + u64::from(send.bits_clocked) * self.period_ns + half)
                             }
@@ -511,7 +511,10 @@ mod tests {
                 };
                 self.now_ns = self.now_ns.max(next);
                 self.mouse.tick(self.now_ns / 1000);
-                if let Some(event) = self.wire.handle(self.now_ns, &mut self.mouse, &mut self.faults) {
+                if let Some(event) =
+                    self.wire
+                        .handle(self.now_ns, &mut self.mouse, &mut self.faults)
+                {
                     out.push((self.now_ns, event));
                 }
             }
@@ -525,12 +528,16 @@ mod tests {
         for clock_hz in [MIN_CLOCK_HZ, 12_500, MAX_CLOCK_HZ] {
             let mut rig = Rig::new(clock_hz);
             let events = rig.run(10_000_000);
-            let period = WireParams { clock_hz, ..WireParams::default() }.period_ns();
-            // Self-test ends at 1 ms: 0xAA then 0x00.
+            let period = WireParams {
+                clock_hz,
+                ..WireParams::default()
+            }
+            .period_ns();
+            // Self-test ends at 1 ms: 0xAA goes out at once, then 0x00.
             assert_eq!(events.len(), 2, "{events:?}");
             let (t0, e0) = events[0];
             assert_eq!(e0, WireEvent::Frame(Ps2Frame::encode(0xAA)));
-            assert_eq!(t0, 1_000_000 + 100_000 + 10 * period + period / 2);
+            assert_eq!(t0, 1_000_000 + 10 * period + period / 2);
             let (t1, e1) = events[1];
             assert_eq!(e1, WireEvent::Frame(Ps2Frame::encode(0x00)));
             // Next frame: after the first ends (11 periods) and 100 µs idle.
@@ -586,7 +593,7 @@ mod tests {
     #[test]
     fn inhibit_aborts_a_device_frame_which_is_not_delivered() {
         let mut rig = Rig::new(12_500);
-        // Self-test ends at 1 ms; 0xAA starts at 1.1 ms. Inhibit in its middle.
+        // Self-test ends at 1 ms; 0xAA starts then. Inhibit in its middle.
         rig.run(1_400_000);
         assert!(rig.wire.is_device_sending());
         rig.wire.start_host_send(1_400_000, 0xF5, &mut rig.mouse);
@@ -610,7 +617,10 @@ mod tests {
         let mut rig = Rig::new(12_500);
         rig.faults.drop_pending = 1;
         let events = rig.run(5_000_000);
-        assert_eq!(events, vec![(events[0].0, WireEvent::Frame(Ps2Frame::encode(0x00)))]);
+        assert_eq!(
+            events,
+            vec![(events[0].0, WireEvent::Frame(Ps2Frame::encode(0x00)))]
+        );
     }
 
     #[test]

@@ -59,7 +59,9 @@ pub struct MouseConfig {
     /// Resolution sent after `0xE8`.
     pub resolution: Resolution,
     /// After the reset is acknowledged, how long to wait for the self-test result
-    /// (`0xAA`), microseconds. The mouse may take up to about 2.5 s; default 2.5 s.
+    /// (`0xAA`), microseconds. The mouse may take up to about 2.5 s; default 3 s
+    /// leaves a margin (an absent mouse fails earlier: it does not acknowledge the
+    /// reset).
     pub self_test_timeout_us: u64,
     /// How long a command may take from the moment [`crate::MouseDriver::poll`] hands
     /// it out until the mouse's reply arrives (request-to-send, clocking the byte in,
@@ -75,12 +77,12 @@ pub struct MouseConfig {
 }
 
 impl MouseConfig {
-    /// The defaults: 200 samples/s, 8 counts/mm, 2.5 s self-test, 25 ms reply
+    /// The defaults: 200 samples/s, 8 counts/mm, 3 s self-test, 25 ms reply
     /// timeout, 75 ms silence timeout.
     pub const DEFAULT: Self = Self {
         sample_rate: 200,
         resolution: Resolution::CountsPerMm8,
-        self_test_timeout_us: 2_500_000,
+        self_test_timeout_us: 3_000_000,
         reply_timeout_us: 25_000,
         silence_timeout_us: 75_000,
     };

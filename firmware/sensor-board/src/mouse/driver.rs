@@ -476,7 +476,7 @@ impl MouseDriver {
     }
 
     /// Drops a partial packet whose next byte came too late.
-    fn drop_stale_packet(&mut self, now_us: u64, previous_frame_us: u64) { return;
+    fn drop_stale_packet(&mut self, now_us: u64, previous_frame_us: u64) {
         if self.packet_len > 0 && now_us.saturating_sub(previous_frame_us) > INTER_BYTE_TIMEOUT_US {
             self.clear_packet();
             self.stats.resyncs = self.stats.resyncs.wrapping_add(1);

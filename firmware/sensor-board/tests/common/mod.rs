@@ -37,7 +37,12 @@ impl Harness {
     /// Polls: the driver must have nothing to send.
     #[track_caller]
     pub fn expect_quiet(&mut self) {
-        assert_eq!(self.driver.poll(self.now), None, "state {:?}", self.driver.state());
+        assert_eq!(
+            self.driver.poll(self.now),
+            None,
+            "state {:?}",
+            self.driver.state()
+        );
     }
 
     /// The mouse sends `byte`.

@@ -26,7 +26,14 @@ impl<T: Real> Sym3<T> {
     /// From the six entries.
     #[inline(always)]
     pub fn new(xx: T, yy: T, zz: T, xy: T, xz: T, yz: T) -> Self {
-        Self { xx, yy, zz, xy, xz, yz }
+        Self {
+            xx,
+            yy,
+            zz,
+            xy,
+            xz,
+            yz,
+        }
     }
 
     /// The zero matrix.

@@ -10,7 +10,8 @@
 //!    `u_i = τ_i − S_iᵀ(Ĵ_i c_i + b_i)`, and into the parent
 //!    `Ĵ_λ += Ad*_{f_i⁻¹} (Ĵ_i − U_i D_i⁻¹ U_iᵀ) Ad_{f_i⁻¹}` (Eq. 6, `.xform_inv`),
 //!    `b_λ += Ad*_{f_i⁻¹} (Ĵ_i c_i + b_i + U_i D_i⁻¹ u_i)`;
-//! 3. forward: `q̈_i = D_i⁻¹ (u_i − U_iᵀ (Ad_{f_i⁻¹} V̇_λ + c_i))`,
+//! 3. forward: `q̈_i = D_i⁻¹ (u_i − U_iᵀ Ad_{f_i⁻¹} V̇_λ)` (Appendix A's
+//!    `(τ_i − ⟨S_i, Ĵ_i (Ad V̇ + c_i) + b_i⟩)/Ω_i`, with `Ĵ_i c_i` already in `u_i`),
 //!    `V̇_i = Ad_{f_i⁻¹} V̇_λ + c_i + S_i q̈_i`, with `V̇_0 = (0, −g)`.
 //!
 //! For `d = 1` these are literally the scalar formulas of Appendix A
@@ -95,7 +96,7 @@ pub fn aba<T: Real>(
                 let s = ws.s[vo];
                 let u = jh.mul_twist(&s);
                 let omega = s.dot(&u);
-                if !(omega > T::zero()) {
+                if !positive(omega) {
                     return Err(DynamicsError::Singular { body: i });
                 }
                 let dinv = T::one() / omega;
@@ -126,18 +127,20 @@ pub fn aba<T: Real>(
                 if body.parent.is_none() {
                     continue;
                 }
-                let mut ja = jh;
+                // W = D⁻¹ U; U D⁻¹ Uᵀ = Σ_k U_k W_kᵀ; U D⁻¹ u = Σ_k W_k u_k.
+                let u = &ws.u[vo..vo + d];
+                let dinv = &ws.dinv[off..off + d * d];
+                let mut w = [dse3::zeros(); 6];
                 let mut pa = pa;
                 for k in 0..d {
-                    // W_k = Σ_l D⁻¹_kl U_l; U D⁻¹ Uᵀ = Σ_k U_k ⊗ W_k (symmetric).
-                    let mut w = dse3::zeros();
-                    for l in 0..d {
-                        w += ws.u[vo + l] * ws.dinv[off + k * d + l];
+                    let mut wk = u[0] * dinv[k * d];
+                    for l in 1..d {
+                        wk += u[l] * dinv[k * d + l];
                     }
-                    ja -= ws.u[vo + k].kron(&w);
-                    pa += w * ws.uu[vo + k];
+                    w[k] = wk;
+                    pa += wk * ws.uu[vo + k];
                 }
-                (ja, pa)
+                (jh.sub_products(u, &w[..d]), pa)
             }
         };
         if let Some(p) = body.parent {
@@ -152,16 +155,18 @@ pub fn aba<T: Real>(
     for (i, body) in bodies.iter().enumerate() {
         let (vo, d) = (body.v_offset, body.nv());
         let f = ws.f[i];
+        // u_i already holds −⟨S_i, Ĵ_i c_i⟩, so c_i enters q̈ only through u_i.
         let ap = match body.parent {
             Some(p) => f.ad_inv(&ws.a[p]),
             None => f.ad_inv(&a0),
-        } + ws.c[i];
+        };
+        let apc = ap + ws.c[i];
         ws.a[i] = match d {
-            0 => ap,
+            0 => apc,
             1 => {
                 let x = ws.dinv[ws.dinv_offset[i]] * (ws.uu[vo] - ws.u[vo].dot(&ap));
                 qdd[vo] = x;
-                ap + ws.s[vo] * x
+                apc + ws.s[vo] * x
             }
             _ => {
                 let off = ws.dinv_offset[i];
@@ -169,7 +174,7 @@ pub fn aba<T: Real>(
                 for (k, rk) in r.iter_mut().enumerate().take(d) {
                     *rk = ws.uu[vo + k] - ws.u[vo + k].dot(&ap);
                 }
-                let mut a = ap;
+                let mut a = apc;
                 for k in 0..d {
                     let mut x = T::zero();
                     for (l, rl) in r.iter().enumerate().take(d) {
@@ -183,4 +188,10 @@ pub fn aba<T: Real>(
         };
     }
     Ok(())
+}
+
+/// `x > 0` (false for NaN).
+#[inline(always)]
+fn positive<T: Real>(x: T) -> bool {
+    x > T::zero()
 }

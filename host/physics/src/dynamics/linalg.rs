@@ -16,7 +16,7 @@ pub(crate) fn cholesky_in_place<T: Real>(a: &mut [T], n: usize) -> Result<(), Ch
         for k in 0..j {
             d -= a[j * n + k] * a[j * n + k];
         }
-        if !(d > T::zero()) {
+        if d.partial_cmp(&T::zero()) != Some(core::cmp::Ordering::Greater) {
             return Err(CholeskyError(j));
         }
         let d = d.sqrt();
@@ -60,7 +60,14 @@ pub fn cholesky_solve<T: Real>(a: &mut [T], n: usize, b: &mut [T]) -> Result<(),
 
 /// Inverts the symmetric positive-definite row-major `n×n` matrix `a` into `inv`
 /// (`a` is overwritten by its factor).
-pub(crate) fn spd_inverse<T: Real>(a: &mut [T], n: usize, inv: &mut [T]) -> Result<(), CholeskyError> {
+pub(crate) fn spd_inverse<T: Real>(
+    a: &mut [T],
+    n: usize,
+    inv: &mut [T],
+) -> Result<(), CholeskyError> {
+    if n == 3 {
+        return spd_inverse3(a, inv);
+    }
     cholesky_in_place(a, n)?;
     for j in 0..n {
         let mut col = [T::zero(); 6];
@@ -70,5 +77,33 @@ pub(crate) fn spd_inverse<T: Real>(a: &mut [T], n: usize, inv: &mut [T]) -> Resu
             inv[i * n + j] = col[i];
         }
     }
+    Ok(())
+}
+
+/// Closed-form inverse of a symmetric positive-definite 3×3 (adjugate / determinant), with
+/// the positive-definiteness test of Sylvester's criterion.
+fn spd_inverse3<T: Real>(a: &[T], inv: &mut [T]) -> Result<(), CholeskyError> {
+    let (a00, a01, a02, a11, a12, a22) = (a[0], a[1], a[2], a[4], a[5], a[8]);
+    let c00 = a11 * a22 - a12 * a12;
+    let c01 = a02 * a12 - a01 * a22;
+    let c02 = a01 * a12 - a02 * a11;
+    let det = a00 * c00 + a01 * c01 + a02 * c02;
+    let pd = a00 > T::zero() && a00 * a11 - a01 * a01 > T::zero() && det > T::zero();
+    if !pd {
+        return Err(CholeskyError(0));
+    }
+    let r = T::one() / det;
+    let c11 = a00 * a22 - a02 * a02;
+    let c12 = a01 * a02 - a00 * a12;
+    let c22 = a00 * a11 - a01 * a01;
+    inv[0] = c00 * r;
+    inv[1] = c01 * r;
+    inv[2] = c02 * r;
+    inv[3] = inv[1];
+    inv[4] = c11 * r;
+    inv[5] = c12 * r;
+    inv[6] = inv[2];
+    inv[7] = inv[5];
+    inv[8] = c22 * r;
     Ok(())
 }

@@ -293,8 +293,14 @@ pub fn both_forms(k: usize) -> (nalgebra::Matrix6<f64>, nalgebra::Matrix6<f64>) 
     match k {
         0 => (col(g.t.ad(&g.v).to_array()), colv(mf::ad(&g.t, &m.v6))),
         1 => (col(g.v.ad(&g.w).to_array()), colv(mf::lie_ad(&g.v, &m.w6))),
-        2 => (col(g.j.mul_twist(&g.v).to_array()), colv(mf::inertia_mul(&m.j6, &m.v6))),
-        3 => (g.j.xform(&g.t).to_ainertia().to_matrix6(), mf::xform(&m.j6, &g.t)),
+        2 => (
+            col(g.j.mul_twist(&g.v).to_array()),
+            colv(mf::inertia_mul(&m.j6, &m.v6)),
+        ),
+        3 => (
+            g.j.xform(&g.t).to_ainertia().to_matrix6(),
+            mf::xform(&m.j6, &g.t),
+        ),
         4 => (g.ja.xform(&g.t).to_matrix6(), mf::xform(&m.ja6, &g.t)),
         _ => (
             eq6_step(&g.j, &g.ja, &g.v, &g.t).to_matrix6(),

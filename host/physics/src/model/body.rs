@@ -21,18 +21,22 @@ pub struct Body<T: Real> {
     pub q_offset: usize,
     /// Offset of this joint's velocity coordinates in `q̇`, `q̈`, `τ`.
     pub v_offset: usize,
+    /// `joint.nq()`, cached (the recursions ask for it per body and per pass).
+    pub(crate) nq: usize,
+    /// `joint.nv()`, cached.
+    pub(crate) nv: usize,
 }
 
 impl<T: Real> Body<T> {
     /// Number of configuration coordinates of the joint.
     #[inline]
     pub fn nq(&self) -> usize {
-        self.joint.nq()
+        self.nq
     }
 
     /// Degrees of freedom of the joint.
     #[inline]
     pub fn nv(&self) -> usize {
-        self.joint.nv()
+        self.nv
     }
 }

@@ -144,9 +144,30 @@ pub fn humanoid() -> ModelDescription {
     };
     let rev = |a| axis_joint("revolute", a);
     let ball = || JointDescription::new("ball");
-    let pelvis = t.add("pelvis", None, JointDescription::new("free"), IDENTITY, [0.0; 3], 1.0);
-    let waist = t.add("waist", Some(pelvis), rev(Z), IDENTITY, [0.0, 0.0, 0.1], 1.0);
-    let chest = t.add("chest", Some(waist), ball(), rot_z(0.3), [0.0, 0.0, 0.2], 1.0);
+    let pelvis = t.add(
+        "pelvis",
+        None,
+        JointDescription::new("free"),
+        IDENTITY,
+        [0.0; 3],
+        1.0,
+    );
+    let waist = t.add(
+        "waist",
+        Some(pelvis),
+        rev(Z),
+        IDENTITY,
+        [0.0, 0.0, 0.1],
+        1.0,
+    );
+    let chest = t.add(
+        "chest",
+        Some(waist),
+        ball(),
+        rot_z(0.3),
+        [0.0, 0.0, 0.2],
+        1.0,
+    );
     let neck = t.add("neck", Some(chest), rev(Y), IDENTITY, [0.0, 0.0, 0.25], 1.0);
     t.add("head", Some(neck), ball(), IDENTITY, [0.0, 0.0, 0.08], 1.0);
     for (side, sign) in [("left", 1.0), ("right", -1.0)] {
@@ -266,11 +287,11 @@ pub fn mass_ratio() -> ModelDescription {
     ];
     let mut parent = None;
     let mut trunk = Vec::new();
-    for k in 0..6 {
+    for (k, joint) in joints.iter().enumerate() {
         let id = t.add(
             &format!("trunk{k}"),
             parent,
-            joints[k].clone(),
+            joint.clone(),
             if k % 2 == 1 { rot_z(0.4) } else { IDENTITY },
             [0.0, 0.0, if k == 0 { 0.0 } else { 0.2 }],
             scale(k),

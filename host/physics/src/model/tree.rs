@@ -62,7 +62,8 @@ impl<T: Real> ArticulatedTree<T> {
                 });
             }
         }
-        if !(inertia.m.to_f64() >= 0.0) {
+        let m = inertia.m.to_f64();
+        if m.is_nan() || m < 0.0 {
             return Err(ModelError::InvalidInertia {
                 name,
                 why: format!("mass must be non-negative, got {}", inertia.m),
@@ -77,6 +78,8 @@ impl<T: Real> ArticulatedTree<T> {
             inertia,
             q_offset: self.nq,
             v_offset: self.nv,
+            nq,
+            nv,
         });
         self.nq += nq;
         self.nv += nv;

@@ -68,7 +68,12 @@ pub fn close_m6(a: &Matrix6<f64>, b: &Matrix6<f64>, tol: f64) -> bool {
 
 /// Relative error `‖a − b‖ / ‖b‖`.
 pub fn rel_err(a: &[f64], b: &[f64]) -> f64 {
-    let num: f64 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt();
+    let num: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x - y) * (x - y))
+        .sum::<f64>()
+        .sqrt();
     let den: f64 = b.iter().map(|y| y * y).sum::<f64>().sqrt();
     num / den.max(f64::MIN_POSITIVE)
 }

@@ -2,7 +2,7 @@
 //! `Inertia`, and the 6×6 matrix view.
 
 use super::AInertia;
-use crate::algebra::{add, mul_mtv, mul_mv, dse3, se3, skew, Inertia, Mat3, Sym3};
+use crate::algebra::{add, dse3, mul_mtv, mul_mv, se3, skew, Inertia, Mat3, Sym3};
 use crate::Real;
 use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 use nalgebra::Matrix6;
@@ -32,10 +32,13 @@ impl<T: Real> AInertia<T> {
     /// As a full 6×6 nalgebra matrix (twist `(w, v)` → wrench `(m, f)` ordering).
     pub fn to_matrix6(&self) -> Matrix6<T> {
         let mut m = Matrix6::zeros();
-        m.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.a.to_matrix());
+        m.fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&self.a.to_matrix());
         m.fixed_view_mut::<3, 3>(0, 3).copy_from(&self.b);
-        m.fixed_view_mut::<3, 3>(3, 0).copy_from(&self.b.transpose());
-        m.fixed_view_mut::<3, 3>(3, 3).copy_from(&self.c.to_matrix());
+        m.fixed_view_mut::<3, 3>(3, 0)
+            .copy_from(&self.b.transpose());
+        m.fixed_view_mut::<3, 3>(3, 3)
+            .copy_from(&self.c.to_matrix());
         m
     }
 
@@ -160,5 +163,65 @@ impl<T: Real> Add<Inertia<T>> for AInertia<T> {
     #[inline(always)]
     fn add(self, j: Inertia<T>) -> AInertia<T> {
         j + self
+    }
+}
+
+impl<T: Real> AInertia<T> {
+    /// `Ĵ − Σ_k U_k W_kᵀ` for wrenches with a symmetric sum (as `U D⁻¹ Uᵀ` with
+    /// `W = D⁻¹ U`, the multi-DOF form of Eq. 6): only the 21 independent entries are
+    /// formed — `21 d` ×, `21 d` +.
+    pub fn sub_products(&self, u: &[dse3<T>], w: &[dse3<T>]) -> Self {
+        let ua: [[T; 6]; 6] = core::array::from_fn(|k| {
+            if k < u.len() {
+                u[k].to_array()
+            } else {
+                [T::zero(); 6]
+            }
+        });
+        let wa: [[T; 6]; 6] = core::array::from_fn(|k| {
+            if k < w.len() {
+                w[k].to_array()
+            } else {
+                [T::zero(); 6]
+            }
+        });
+        let d = u.len().min(w.len());
+        let e = |i: usize, j: usize| {
+            let mut s = ua[0][i] * wa[0][j];
+            for k in 1..d {
+                s += ua[k][i] * wa[k][j];
+            }
+            s
+        };
+        let (a, b, c) = (&self.a, &self.b, &self.c);
+        AInertia::new(
+            Sym3::new(
+                a.xx - e(0, 0),
+                a.yy - e(1, 1),
+                a.zz - e(2, 2),
+                a.xy - e(0, 1),
+                a.xz - e(0, 2),
+                a.yz - e(1, 2),
+            ),
+            Mat3::new(
+                b[(0, 0)] - e(0, 3),
+                b[(0, 1)] - e(0, 4),
+                b[(0, 2)] - e(0, 5),
+                b[(1, 0)] - e(1, 3),
+                b[(1, 1)] - e(1, 4),
+                b[(1, 2)] - e(1, 5),
+                b[(2, 0)] - e(2, 3),
+                b[(2, 1)] - e(2, 4),
+                b[(2, 2)] - e(2, 5),
+            ),
+            Sym3::new(
+                c.xx - e(3, 3),
+                c.yy - e(4, 4),
+                c.zz - e(5, 5),
+                c.xy - e(3, 4),
+                c.xz - e(3, 5),
+                c.yz - e(4, 5),
+            ),
+        )
     }
 }

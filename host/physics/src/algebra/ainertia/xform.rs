@@ -27,7 +27,12 @@ impl<T: Real> AInertia<T> {
             Vec3::new(c.xy, c.yy, c.yz),
             Vec3::new(c.xz, c.yz, c.zz),
         ];
-        let col = |j: usize| sub(&Vec3::new(b[(0, j)], b[(1, j)], b[(2, j)]), &cross(d, &cc[j]));
+        let col = |j: usize| {
+            sub(
+                &Vec3::new(b[(0, j)], b[(1, j)], b[(2, j)]),
+                &cross(d, &cc[j]),
+            )
+        };
         let nb = Mat3::from_columns(&[col(0), col(1), col(2)]);
         // Rows: (x[d]) has rows x_i × d.
         let row = |m: &Mat3<T>, i: usize| Vec3::new(m[(i, 0)], m[(i, 1)], m[(i, 2)]);

@@ -20,15 +20,16 @@ fn exp_coefficients<T: Real>(t2: T) -> (T, T, T) {
         // Alternating series; the first omitted terms are below 1e-19 for θ < 0.1.
         let a = c(1.0) - t2 * (c(1.0 / 6.0) - t2 * (c(1.0 / 120.0) - t2 * c(1.0 / 5040.0)));
         let b = c(0.5) - t2 * (c(1.0 / 24.0) - t2 * (c(1.0 / 720.0) - t2 * c(1.0 / 40320.0)));
-        let cc = c(1.0 / 6.0)
-            - t2 * (c(1.0 / 120.0) - t2 * (c(1.0 / 5040.0) - t2 * c(1.0 / 362880.0)));
+        let cc =
+            c(1.0 / 6.0) - t2 * (c(1.0 / 120.0) - t2 * (c(1.0 / 5040.0) - t2 * c(1.0 / 362880.0)));
         (a, b, cc)
     } else {
+        // One sin/cos pair of θ/2 gives all three without cancellation:
+        // sin θ = 2 s c, 1 − cos θ = 2 s².
         let th = t2.sqrt();
-        let (s, _) = th.sin_cos();
-        let (sh, _) = (th * c(0.5)).sin_cos();
+        let (sh, ch) = (th * c(0.5)).sin_cos();
+        let s = c(2.0) * sh * ch;
         let a = s / th;
-        // 1 − cos θ = 2 sin²(θ/2): no cancellation.
         let b = c(2.0) * sh * sh / t2;
         let cc = (th - s) / (t2 * th);
         (a, b, cc)
@@ -95,7 +96,8 @@ pub fn log_so3<T: Real>(r: &Mat3<T>) -> Vec3<T> {
             c(0.5)
                 * (c(1.0)
                     + t2 * (c(1.0 / 6.0)
-                        + t2 * (c(7.0 / 360.0) + t2 * (c(31.0 / 15120.0) + t2 * c(127.0 / 604800.0)))))
+                        + t2 * (c(7.0 / 360.0)
+                            + t2 * (c(31.0 / 15120.0) + t2 * c(127.0 / 604800.0)))))
         } else {
             theta / sin2
         };
@@ -147,7 +149,8 @@ impl<T: Real> SE3<T> {
         let w = log_so3(&self.r);
         let t2 = dot(&w, &w);
         let d = if t2 < c(SERIES_THETA2) {
-            c(1.0 / 12.0) + t2 * (c(1.0 / 720.0) + t2 * (c(1.0 / 30240.0) + t2 * c(1.0 / 1209600.0)))
+            c(1.0 / 12.0)
+                + t2 * (c(1.0 / 720.0) + t2 * (c(1.0 / 30240.0) + t2 * c(1.0 / 1209600.0)))
         } else {
             let th = t2.sqrt();
             let (sh, ch) = (th * c(0.5)).sin_cos();

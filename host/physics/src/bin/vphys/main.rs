@@ -7,7 +7,10 @@ use anyhow::Result;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "vphys", about = "Virtual Physics: measurements and peer comparisons")]
+#[command(
+    name = "vphys",
+    about = "Virtual Physics: measurements and peer comparisons"
+)]
 struct Cli {
     #[command(subcommand)]
     cmd: Cmd,

@@ -10,7 +10,8 @@ use virtual_physics::measure::table3::time_ns;
 use virtual_physics::model::builders::{chain, humanoid, peer_models, random_state};
 use virtual_physics::model::description::ModelDescription;
 
-const INSTALL: &str = "Pinocchio is not installed for this Python: install it with `pip install pin` \
+const INSTALL: &str =
+    "Pinocchio is not installed for this Python: install it with `pip install pin` \
      (or point --python at an interpreter that has it)";
 
 #[derive(Subcommand)]

@@ -49,7 +49,10 @@ impl<T: Real> Joint<T> for Universal<T> {
     }
     fn bias(&self, q: &[T], qd: &[T]) -> se3<T> {
         let a1 = self.first_axis_in_child(q);
-        se3::new(scale(qd[0] * qd[1], &cross(&a1, &self.axis2)), Vec3::zeros())
+        se3::new(
+            scale(qd[0] * qd[1], &cross(&a1, &self.axis2)),
+            Vec3::zeros(),
+        )
     }
     fn describe(&self) -> JointDescription {
         let mut d = JointDescription::with_axis("universal", axis_f64(&self.axis1));
