@@ -110,6 +110,18 @@ fn socket_board_survives_emulator_kill_and_restart() {
 }
 
 #[test]
+fn the_demo_script_is_valid() {
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/scripts/demo.json");
+    let out = Command::new(env!("CARGO_BIN_EXE_sim"))
+        .args(["check-script", script])
+        .output()
+        .expect("run sim");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout} {}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("valid; motion lasts 3.100 s; 4 fault(s)"), "{stdout}");
+}
+
+#[test]
 fn serve_rejects_bad_arguments_clearly() {
     let run = |args: &[&str]| {
         let out = Command::new(env!("CARGO_BIN_EXE_sim"))

@@ -48,6 +48,7 @@ fn check(name: &str) {
         let mut qdd = vec![0.0; tree.nv()];
         aba(&tree, &mut ws, &s.q, &s.qd, &s.tau, None, &mut qdd).unwrap();
         let e = rel_err(&qdd, &s.qdd);
+        println!("{name} state {k}: relative error vs Pinocchio {e:e}");
         assert!(
             e <= 1e-9,
             "{name} state {k}: relative error vs Pinocchio {e:e}"

@@ -58,7 +58,8 @@ impl Python {
             .map(|o| o.status.success())
             .unwrap_or(false);
         if !ok {
-            bail!(INSTALL);
+            eprintln!("vphys: {INSTALL}");
+            std::process::exit(2);
         }
         Ok(())
     }
