@@ -380,6 +380,10 @@ impl EmulatedBoard {
 
     /// Processes every event up to and including `t_ns`.
     fn run_until(&mut self, t_ns: u64) {
+        // Next event per port, recomputed only for the port an event touched (sensor
+        // frames change no port's timing).
+        let mut port_next: [Option<u64>; PADDLES] =
+            core::array::from_fn(|i| self.ports[i].next_event_ns());
         loop {
             // The earliest of: sensor frame, scheduled fault, port events.
             let mut next = self.next_frame_ns;
@@ -390,8 +394,8 @@ impl EmulatedBoard {
                     which = Next::Fault;
                 }
             }
-            for (i, port) in self.ports.iter().enumerate() {
-                if let Some(t) = port.next_event_ns() {
+            for (i, t) in port_next.iter().enumerate() {
+                if let Some(t) = *t {
                     if t < next {
                         next = t;
                         which = Next::Port(i);
@@ -407,8 +411,12 @@ impl EmulatedBoard {
                 Next::Fault => {
                     let f = self.schedule.remove(0);
                     self.apply_fault(f.port, f.fault);
+                    port_next[f.port] = self.ports[f.port].next_event_ns();
                 }
-                Next::Port(i) => self.port_event(i),
+                Next::Port(i) => {
+                    self.port_event(i);
+                    port_next[i] = self.ports[i].next_event_ns();
+                }
             }
         }
         self.now_ns = self.now_ns.max(t_ns);

@@ -17,7 +17,7 @@
 //! * [`serve`]: the board as a process serving reports over a Unix socket
 //!   ([`board_link::socket_wire`]).
 //! * [`usbip`]: the board as a USB device over USB/IP.
-//! * [`bench`]: how fast the emulation runs.
+//! * [`bench`](mod@bench): how fast the emulation runs.
 #![deny(missing_docs)]
 
 pub mod bench;

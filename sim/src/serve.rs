@@ -21,6 +21,8 @@ use std::time::{Duration, Instant};
 /// Unsent bytes a client may have queued before reports to it are skipped
 /// (≈ 1400 reports, 1.4 s).
 const MAX_CLIENT_BACKLOG: usize = 64 * 1024;
+/// Reads (of up to 4 KiB) taken from one client per millisecond at most.
+const MAX_READS_PER_TICK: usize = 16;
 /// Most clients served at once; more are refused (closed at once).
 pub const MAX_CLIENTS: usize = 16;
 
@@ -207,7 +209,8 @@ impl SocketServer {
     fn read_clients(&mut self, board: &mut EmulatedBoard) {
         let mut logs = Vec::new();
         for client in &mut self.clients {
-            loop {
+            // Bounded, so a client that writes without pause cannot stall the board.
+            for _ in 0..MAX_READS_PER_TICK {
                 match client.reader.read_from(&mut client.stream) {
                     Ok(0) => {
                         client.open = false;

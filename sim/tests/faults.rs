@@ -271,11 +271,10 @@ fn dropped_byte_resynchronised_within_three_packets() {
 /// 0xFF) — can pass for a status byte. After the status byte is dropped the driver then
 /// assembles misaligned packets, and only the time gap between packets can
 /// resynchronise it. That gap is about 3 ms at 200 samples/s (2.6 ms at a 10 kHz
-/// clock) but the firmware's `INTER_BYTE_TIMEOUT_US` is 5 ms, so the stream stays
-/// misaligned: measured 40 of 40 packets wrong (0.25 m/s axial, and 0.05 m/s with
-/// −4 rad/s).
+/// clock), so the firmware's `INTER_BYTE_TIMEOUT_US` (2 ms) must stay below it: with the
+/// earlier 5 ms the stream stayed misaligned (measured 40 of 40 packets wrong at 0.25 m/s
+/// axial, and at 0.05 m/s with −4 rad/s).
 #[test]
-#[ignore = "fails: sensor-board INTER_BYTE_TIMEOUT_US (5 ms) exceeds the gap between packets"]
 fn dropped_status_byte_resynchronised_when_deltas_have_bit_3_set() {
     for (axial, angle) in [(0.25, 12.0), (0.05, -4.0), (0.3, -15.0)] {
         for skip in 0..3 {

@@ -117,8 +117,15 @@ fn the_demo_script_is_valid() {
         .output()
         .expect("run sim");
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout} {}", String::from_utf8_lossy(&out.stderr));
-    assert!(stdout.contains("valid; motion lasts 3.100 s; 4 fault(s)"), "{stdout}");
+    assert!(
+        out.status.success(),
+        "{stdout} {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("valid; motion lasts 3.100 s; 4 fault(s)"),
+        "{stdout}"
+    );
 }
 
 #[test]

@@ -36,7 +36,7 @@ enum Command {
     /// Serve the board's reports over a Unix socket (board_link::SocketBoard), 1 kHz.
     Serve {
         /// Socket path [default: $XDG_RUNTIME_DIR/space-foosball/board.sock, or
-        /// /tmp/space-foosball-<uid>/board.sock].
+        /// /tmp/space-foosball-{uid}/board.sock].
         #[arg(long)]
         socket: Option<PathBuf>,
         #[command(flatten)]

@@ -45,9 +45,16 @@ impl Resolution {
 pub const ABSENT_RETRY_INTERVAL_US: u64 = 250_000;
 
 /// While streaming, a partial packet whose next byte has not arrived within this long
-/// is discarded, microseconds. The bytes of one packet come back to back (about 1 ms
-/// each); this resynchronises after a byte was lost at the end of a burst of motion.
-pub const INTER_BYTE_TIMEOUT_US: u64 = 5_000;
+/// is discarded, microseconds.
+///
+/// The bytes of one packet come back to back: one 11-bit frame takes 0.66 ms at a
+/// 16.7 kHz PS/2 clock and 1.1 ms at 10 kHz, so consecutive bytes of a packet end at most
+/// ~1.2 ms apart. At 200 samples/s packets start 5 ms apart, so the last byte of one
+/// packet and the first of the next end at least ~2.6 ms apart (10 kHz). A timeout
+/// between the two (2 ms, leaving room for the firmware's 250 µs polling jitter) makes a
+/// lost status byte cost at most one packet, even when the delta bytes have bit 3 set
+/// and so look like status bytes to the bit-3 resync.
+pub const INTER_BYTE_TIMEOUT_US: u64 = 2_000;
 
 /// Configuration of one mouse port. All times in microseconds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
