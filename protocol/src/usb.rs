@@ -29,6 +29,7 @@ pub const VENDOR_USAGE_PAGE: u16 = 0xFF00;
 /// HID report descriptor: one vendor-defined application collection with one input
 /// report of [`IN_REPORT_LEN`] bytes and one output report of [`OUT_REPORT_LEN`] bytes,
 /// no report ids.
+#[rustfmt::skip]
 pub const HID_REPORT_DESCRIPTOR: &[u8] = &[
     0x06, 0x00, 0xFF, // Usage Page (Vendor Defined 0xFF00)
     0x09, 0x01, // Usage (Vendor 1: sensor board)

@@ -31,17 +31,15 @@ fn led() -> impl Strategy<Value = LedState> {
 }
 
 fn out_report() -> impl Strategy<Value = OutReport> {
-    (
-        proptest::array::uniform8((any::<u8>(), any::<u8>())),
-        led(),
-    )
-        .prop_map(|(pulses, led)| OutReport {
+    (proptest::array::uniform8((any::<u8>(), any::<u8>())), led()).prop_map(|(pulses, led)| {
+        OutReport {
             haptics: pulses.map(|(strength, duration_ms)| HapticPulse {
                 strength,
                 duration_ms,
             }),
             led,
-        })
+        }
+    })
 }
 
 proptest! {
