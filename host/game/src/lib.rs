@@ -1,0 +1,1 @@
+//! The Space Foosball game (being written).
