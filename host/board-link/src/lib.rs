@@ -40,6 +40,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod haptics;
 mod link;
 mod receiver;
 mod socket;

@@ -1,0 +1,60 @@
+// The USB report layouts of `protocol/` (foosball-protocol), for the harness.
+
+export const FORMAT_VERSION = 1;
+export const PADDLES = 8;
+export const IN_REPORT_LEN = 3 + 5 * PADDLES; // 43
+export const OUT_REPORT_LEN = 2 + 2 * PADDLES; // 18
+
+export const STATUS = {
+  PRESENT: 0x01,
+  AXIAL_OVERFLOW: 0x02,
+  ROTATION_OVERFLOW: 0x04,
+  FRAMING_ERROR: 0x08,
+  PARITY_ERROR: 0x10,
+  REINITIALISED: 0x20,
+  SATURATED: 0x40,
+};
+
+export const LED = { OFF: 0, ON: 1, SLOW_BLINK: 2, FAST_BLINK: 3 };
+
+/** `protocol/src/usb.rs`: ids, strings and the HID report descriptor. */
+export const USB_IDS = {
+  vendorId: 0x1209,
+  productId: 0x0001,
+  manufacturer: 'Space Foosball',
+  product: 'Space Foosball sensor board',
+};
+export const HID_REPORT_DESCRIPTOR = Uint8Array.from([
+  0x06, 0x00, 0xff, 0x09, 0x01, 0xa1, 0x01, 0x15, 0x00, 0x26, 0xff, 0x00, 0x75, 0x08, 0x09, 0x02,
+  0x95, IN_REPORT_LEN, 0x81, 0x02, 0x09, 0x03, 0x95, OUT_REPORT_LEN, 0x91, 0x02, 0xc0,
+]);
+
+/** Decodes an IN report: { version, sequence, paddles: [{ axial, rotation, status }] }. */
+export function decodeInReport(bytes) {
+  if (bytes.length !== IN_REPORT_LEN) {
+    throw new Error(`IN report of ${bytes.length} bytes, expected ${IN_REPORT_LEN}`);
+  }
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  const paddles = [];
+  for (let i = 0; i < PADDLES; i++) {
+    const at = 3 + 5 * i;
+    paddles.push({
+      axial: view.getInt16(at, true),
+      rotation: view.getInt16(at + 2, true),
+      status: bytes[at + 4],
+    });
+  }
+  return { version: bytes[0], sequence: view.getUint16(1, true), paddles };
+}
+
+/** Encodes an OUT report: pulses [{ strength, durationMs }] per paddle, LED state. */
+export function encodeOutReport(pulses, led = LED.ON, version = FORMAT_VERSION) {
+  const out = new Uint8Array(OUT_REPORT_LEN);
+  out[0] = version;
+  for (let i = 0; i < PADDLES; i++) {
+    out[1 + 2 * i] = pulses[i]?.strength ?? 0;
+    out[2 + 2 * i] = pulses[i]?.durationMs ?? 0;
+  }
+  out[OUT_REPORT_LEN - 1] = led;
+  return out;
+}
