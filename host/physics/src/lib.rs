@@ -32,3 +32,6 @@ pub mod model;
 mod real;
 
 pub use real::Real;
+pub mod geometry;
+pub mod pipeline;
+pub mod scene;

@@ -1,6 +1,8 @@
 //! `vphys`: the Virtual Physics command line — Table 3 and peer comparisons.
 
+mod effects;
 mod peers;
+mod run;
 mod table3;
 
 use anyhow::Result;
@@ -9,7 +11,7 @@ use clap::{Parser, Subcommand};
 #[derive(Parser)]
 #[command(
     name = "vphys",
-    about = "Virtual Physics: measurements and peer comparisons"
+    about = "Virtual Physics: scenes, benchmarks, measurements and peer comparisons"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -28,6 +30,40 @@ enum Cmd {
         #[arg(long)]
         no_time: bool,
     },
+    /// Steps a scene (file or built-in name) and prints per-step metrics as JSON lines.
+    Run {
+        /// Scene file (JSON) or built-in name (towers-1120, pyramid-1240, towers-80, pyramid-55, ball-roll, ball-wall).
+        scene: String,
+        /// Steps (default: the scene's `steps`, else 600).
+        #[arg(long)]
+        steps: Option<u64>,
+        /// Force sleeping on or off.
+        #[arg(long)]
+        sleeping: Option<bool>,
+        /// Print every N-th step.
+        #[arg(long, default_value_t = 1)]
+        every: u64,
+    },
+    /// Times a scene: ms per step (median, mean, worst) as JSON.
+    Bench {
+        /// Scene file or built-in name.
+        scene: String,
+        /// Steps (default: the scene's `steps`, else 600).
+        #[arg(long)]
+        steps: Option<u64>,
+        /// Force sleeping on or off.
+        #[arg(long)]
+        sleeping: Option<bool>,
+    },
+    /// Cost of each effect added to a base scene, and of the same effect undeclared.
+    Effects {
+        /// One JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Steps per measurement.
+        #[arg(long, default_value_t = 300)]
+        steps: u64,
+    },
     /// Comparisons with other engines (Pinocchio).
     Peers {
         #[command(subcommand)]
@@ -40,5 +76,17 @@ fn main() -> Result<()> {
     match cli.cmd {
         Cmd::Table3 { json, no_time } => table3::run(json, !no_time),
         Cmd::Peers { cmd } => peers::run(cmd),
+        Cmd::Effects { json, steps } => effects::run(json, steps),
+        Cmd::Run {
+            scene,
+            steps,
+            sleeping,
+            every,
+        } => run::run(&scene, steps, sleeping, every),
+        Cmd::Bench {
+            scene,
+            steps,
+            sleeping,
+        } => run::bench(&scene, steps, sleeping),
     }
 }
