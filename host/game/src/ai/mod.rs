@@ -1,0 +1,157 @@
+//! The computer opponent: ball state and rod geometry → target rod poses.
+//!
+//! Pure functions, deterministic (same inputs, same outputs, bit for bit), for any set
+//! of rods of either team — one player against the machine, or the machine against
+//! itself in attract mode. Table frame throughout (see [`crate::table`]).
+//!
+//! Per rod of team `S` (attacking along `d = S.attack_dir()`):
+//! * **Lateral**: the man that can get closest ([`Rod::nearest_man`]) follows the ball's
+//!   `y`. Goalkeeper and defence rods, when the ball comes towards their goal from in
+//!   front of them, follow instead the `y` where the ball will cross the rod (its path
+//!   reflected off the side walls): they **block the shot line**.
+//! * **Angle**: if the ball is **in reach in front of a man** (`0 ≤ (x_ball − x_rod)·d ≤
+//!   reach` and laterally on his foot), the rod **spins to shoot** — towards the
+//!   opponent's goal at the bottom of the swing, i.e. angular velocity `−d` about `+y`.
+//!   If the ball is behind the rod (between it and the own goal, beyond reach), the men
+//!   are **lifted** (feet horizontal) so the own rods behind can shoot through. Otherwise
+//!   they **rest** feet down (the nearest multiple of 2π, so turns are never unwound).
+//! * The targets move at most [`AiLimits`] per step: the rods are driven bodies, so a
+//!   target reached within one step would mean an impossible velocity.
+//!
+//! [`Rod::nearest_man`]: crate::table::Rod::nearest_man
+
+use crate::rules::BallState;
+use crate::table::{Role, Table};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::{FRAC_PI_2, TAU};
+
+/// A rod pose, table frame.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct RodTarget {
+    /// Slide along `+y`, m.
+    pub slide_m: f64,
+    /// Angle about `+y`, rad (unbounded).
+    pub angle_rad: f64,
+}
+
+/// How fast the computer moves its rods.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AiLimits {
+    /// Slide speed, m/s.
+    pub max_slide_speed_m_per_s: f64,
+    /// Spin speed, rad/s.
+    pub max_spin_rad_per_s: f64,
+}
+
+impl Default for AiLimits {
+    /// About a good human player: 1.5 m/s sideways, 40 rad/s spin.
+    fn default() -> Self {
+        Self {
+            max_slide_speed_m_per_s: 1.5,
+            max_spin_rad_per_s: 40.0,
+        }
+    }
+}
+
+/// `y` (m) where a ball at `(x, y)` moving with `(vx, vy)` crosses `x = x_line`,
+/// reflected off side walls at `±y_limit`. `None` if it does not move towards the line.
+pub fn crossing_y(x: f64, y: f64, vx: f64, vy: f64, x_line: f64, y_limit: f64) -> Option<f64> {
+    let t = (x_line - x) / vx;
+    if !(t.is_finite() && t >= 0.0) || y_limit <= 0.0 {
+        return None;
+    }
+    let free = y + vy * t;
+    // Fold onto the interval [−L, L] by reflection (period 4L).
+    let period = 4.0 * y_limit;
+    let shifted = (free + y_limit).rem_euclid(period);
+    Some(if shifted <= 2.0 * y_limit {
+        shifted - y_limit
+    } else {
+        3.0 * y_limit - shifted
+    })
+}
+
+/// The angle nearest `current` at which the rod's men point `phase` (rad, `0` = feet
+/// down): `phase + 2πk`.
+fn nearest_angle(current: f64, phase: f64) -> f64 {
+    phase + ((current - phase) / TAU).round() * TAU
+}
+
+/// The pose rod `rod` wants, ignoring speed limits.
+pub fn desired_pose(table: &Table, rod: usize, ball: &BallState, current: RodTarget) -> RodTarget {
+    let r = &table.rods[rod];
+    let dir = r.team.attack_dir();
+    let [bx, by, _] = ball.position;
+    let [vx, vy, _] = ball.velocity;
+    let ahead = (bx - r.x_m) * dir;
+    let reach = table.reach_x_m(rod);
+    let character = table.character_of(rod);
+    let ball_r = table.ball.radius_m();
+
+    let coming_at_us = vx * dir < 0.0 && ahead > 0.0;
+    let guards = matches!(r.role, Role::Goalkeeper | Role::Defence);
+    let y_limit = 0.5 * table.field.width_m - ball_r;
+    let y_target = if guards && coming_at_us {
+        crossing_y(bx, by, vx, vy, r.x_m, y_limit).unwrap_or(by)
+    } else {
+        by
+    };
+    let choice = r.nearest_man(y_target, current.slide_m);
+
+    // Shooting uses the man in front of the ball now (not the predicted crossing).
+    let shooter = r.nearest_man(by, current.slide_m);
+    let on_foot = shooter.miss_m <= 0.5 * character.foot_width_m + ball_r;
+    let in_reach = (-0.25 * reach..=reach).contains(&ahead);
+    let angle_rad = if in_reach && on_foot {
+        // Keep spinning forward: a quarter turn ahead of where the rod is.
+        current.angle_rad - dir * FRAC_PI_2
+    } else if ahead < -reach {
+        nearest_angle(current.angle_rad, -dir * FRAC_PI_2)
+    } else {
+        nearest_angle(current.angle_rad, 0.0)
+    };
+    let slide_m = if in_reach && on_foot {
+        // Keep the shooter lined up with the ball while kicking.
+        shooter.slide_m
+    } else {
+        choice.slide_m
+    };
+    RodTarget { slide_m, angle_rad }
+}
+
+/// `current` moved towards `desired` within `limits` over `dt_s` seconds, the slide
+/// kept within the rod's travel.
+pub fn step_towards(
+    current: RodTarget,
+    desired: RodTarget,
+    limits: &AiLimits,
+    half_travel_m: f64,
+    dt_s: f64,
+) -> RodTarget {
+    let ds = limits.max_slide_speed_m_per_s * dt_s;
+    let da = limits.max_spin_rad_per_s * dt_s;
+    RodTarget {
+        slide_m: (current.slide_m + (desired.slide_m - current.slide_m).clamp(-ds, ds))
+            .clamp(-half_travel_m, half_travel_m),
+        angle_rad: current.angle_rad + (desired.angle_rad - current.angle_rad).clamp(-da, da),
+    }
+}
+
+/// One step of the computer for `rods` (indices into the table), whose current poses
+/// are `current` (same order): the next target of each, `dt_s` seconds later.
+pub fn targets(
+    table: &Table,
+    rods: &[usize],
+    ball: &BallState,
+    current: &[RodTarget],
+    limits: &AiLimits,
+    dt_s: f64,
+) -> Vec<RodTarget> {
+    rods.iter()
+        .zip(current)
+        .map(|(&rod, &now)| {
+            let want = desired_pose(table, rod, ball, now);
+            step_towards(now, want, limits, table.rods[rod].half_travel_m(), dt_s)
+        })
+        .collect()
+}

@@ -1,0 +1,272 @@
+//! Checking that a table makes physical sense.
+
+use super::Table;
+use crate::side::Side;
+use foosball_protocol::PADDLES;
+
+/// Why a table was rejected.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TableError {
+    /// The file could not be read.
+    #[error("cannot read table file {path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
+    /// The TOML did not parse into a table (syntax, unknown or missing fields).
+    #[error("table file does not parse: {0}")]
+    Parse(String),
+    /// A size or parameter is not a positive finite number (or out of its range).
+    #[error("{what} must be {expected}, got {value}")]
+    BadValue {
+        /// Which value ("field.width_m", "rod 3 travel_m", …).
+        what: String,
+        /// What it must be.
+        expected: &'static str,
+        /// What it is.
+        value: f64,
+    },
+    /// The men of a rod do not fit the field's width over their travel.
+    #[error(
+        "rod {rod}: {men} men {spacing_m} m apart with travel {travel_m} m need {needed_m:.4} m \
+         of width, the field has {width_m} m"
+    )]
+    MenDoNotFit {
+        /// Rod index.
+        rod: usize,
+        /// Men on it.
+        men: usize,
+        /// Their spacing, m.
+        spacing_m: f64,
+        /// Their travel, m.
+        travel_m: f64,
+        /// Width they need, m.
+        needed_m: f64,
+        /// Field width, m.
+        width_m: f64,
+    },
+    /// Neighbouring men on a rod overlap.
+    #[error("rod {rod}: men {spacing_m} m apart overlap (each is {width_m} m wide)")]
+    MenOverlap {
+        /// Rod index.
+        rod: usize,
+        /// Their spacing, m.
+        spacing_m: f64,
+        /// Width of one man, m.
+        width_m: f64,
+    },
+    /// A rod lies outside the field, or rods are not in order along `x`.
+    #[error("rod {rod}: x_m = {x_m} must be inside the field and after the previous rod")]
+    RodPlacement {
+        /// Rod index.
+        rod: usize,
+        /// Its position, m.
+        x_m: f64,
+    },
+    /// Two rods use one board port, or a port does not exist.
+    #[error("rod {rod}: port {port} is out of range (0…{max}) or already used")]
+    Port {
+        /// Rod index.
+        rod: usize,
+        /// The port.
+        port: usize,
+        /// Highest port.
+        max: usize,
+    },
+    /// The men cannot play the ball: they do not reach down to it, or they hit the field.
+    #[error("{side:?} men: {reason}")]
+    Reach {
+        /// The team.
+        side: Side,
+        /// What is wrong.
+        reason: String,
+    },
+    /// Something else is inconsistent (teams, goal vs field, no rods).
+    #[error("{0}")]
+    Inconsistent(String),
+}
+
+fn positive(what: impl Into<String>, value: f64) -> Result<(), TableError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(TableError::BadValue {
+            what: what.into(),
+            expected: "a positive number",
+            value,
+        })
+    }
+}
+
+fn in_range(
+    what: impl Into<String>,
+    value: f64,
+    lo: f64,
+    hi: f64,
+    expected: &'static str,
+) -> Result<(), TableError> {
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(TableError::BadValue {
+            what: what.into(),
+            expected,
+            value,
+        })
+    }
+}
+
+impl Table {
+    /// Checks the table: positive finite sizes, the goal fits the end wall, the men fit
+    /// the width over their travel without overlapping, rods inside the field in order
+    /// along `x`, one port per rod, teams `[home, away]`, and the men can reach the ball
+    /// without touching the field.
+    pub fn validate(&self) -> Result<(), TableError> {
+        let f = &self.field;
+        positive("field.length_m", f.length_m)?;
+        positive("field.width_m", f.width_m)?;
+        positive("field.wall_height_m", f.wall_height_m)?;
+        positive("field.rod_height_m", f.rod_height_m)?;
+        in_range(
+            "field.corner_ramp_m",
+            f.corner_ramp_m,
+            0.0,
+            0.5 * f.width_m.min(f.length_m),
+            "within 0…half the smaller field size",
+        )?;
+        in_range(
+            "field.corner_ramp_height_m",
+            f.corner_ramp_height_m,
+            0.0,
+            f.wall_height_m,
+            "within 0…the wall height",
+        )?;
+        let g = &self.goal;
+        positive("goal.width_m", g.width_m)?;
+        positive("goal.height_m", g.height_m)?;
+        positive("goal.depth_m", g.depth_m)?;
+        if g.width_m + 2.0 * f.corner_ramp_m > f.width_m {
+            return Err(TableError::Inconsistent(format!(
+                "goal ({} m) and corner ramps ({} m each) are wider than the end wall ({} m)",
+                g.width_m, f.corner_ramp_m, f.width_m
+            )));
+        }
+        let b = &self.ball;
+        positive("ball.diameter_m", b.diameter_m)?;
+        positive("ball.mass_kg", b.mass_kg)?;
+        in_range("ball.restitution", b.restitution, 0.0, 1.0, "within 0…1")?;
+        in_range("ball.friction", b.friction, 0.0, 10.0, "within 0…10")?;
+        in_range(
+            "ball.rolling_resistance_m",
+            b.rolling_resistance_m,
+            0.0,
+            b.diameter_m,
+            "within 0…the ball diameter",
+        )?;
+        if b.diameter_m >= g.height_m.min(g.width_m) {
+            return Err(TableError::Inconsistent(format!(
+                "the ball ({} m) does not fit the goal mouth ({} × {} m)",
+                b.diameter_m, g.width_m, g.height_m
+            )));
+        }
+        for (i, side) in Side::BOTH.into_iter().enumerate() {
+            let team = &self.teams[i];
+            if team.side != side {
+                return Err(TableError::Inconsistent(format!(
+                    "teams must be listed [home, away]; entry {i} is {:?}",
+                    team.side
+                )));
+            }
+            let p = team.character_params();
+            p.validate()
+                .map_err(|reason| TableError::Reach { side, reason })?;
+            if p.foot_reach_m >= f.rod_height_m {
+                return Err(TableError::Reach {
+                    side,
+                    reason: format!(
+                        "foot reach {} m touches the field (rods at {} m)",
+                        p.foot_reach_m, f.rod_height_m
+                    ),
+                });
+            }
+            if f.rod_height_m - p.foot_reach_m >= b.diameter_m * 0.75 {
+                return Err(TableError::Reach {
+                    side,
+                    reason: format!(
+                        "feet end {:.4} m above the field: they cannot kick a {} m ball",
+                        f.rod_height_m - p.foot_reach_m,
+                        b.diameter_m
+                    ),
+                });
+            }
+            if self.rods.iter().all(|r| r.team != side) {
+                return Err(TableError::Inconsistent(format!("{side:?} has no rods")));
+            }
+        }
+        let mut ports = [false; PADDLES];
+        let mut previous_x = -0.5 * f.length_m;
+        for (i, rod) in self.rods.iter().enumerate() {
+            if !(rod.x_m.is_finite() && rod.x_m > previous_x && rod.x_m < 0.5 * f.length_m) {
+                return Err(TableError::RodPlacement {
+                    rod: i,
+                    x_m: rod.x_m,
+                });
+            }
+            previous_x = rod.x_m;
+            if rod.port >= PADDLES || ports[rod.port] {
+                return Err(TableError::Port {
+                    rod: i,
+                    port: rod.port,
+                    max: PADDLES - 1,
+                });
+            }
+            ports[rod.port] = true;
+            if rod.men == 0 {
+                return Err(TableError::BadValue {
+                    what: format!("rod {i} men"),
+                    expected: "at least 1",
+                    value: 0.0,
+                });
+            }
+            in_range(
+                format!("rod {i} travel_m"),
+                rod.travel_m,
+                0.0,
+                f.width_m,
+                "within 0…the field width",
+            )?;
+            let half_width = self.team(rod.team).character_params().half_width_m();
+            if rod.men > 1 {
+                positive(format!("rod {i} spacing_m"), rod.spacing_m)?;
+                if rod.spacing_m <= 2.0 * half_width {
+                    return Err(TableError::MenOverlap {
+                        rod: i,
+                        spacing_m: rod.spacing_m,
+                        width_m: 2.0 * half_width,
+                    });
+                }
+            } else if !rod.spacing_m.is_finite() || rod.spacing_m < 0.0 {
+                return Err(TableError::BadValue {
+                    what: format!("rod {i} spacing_m"),
+                    expected: "a non-negative number",
+                    value: rod.spacing_m,
+                });
+            }
+            let span = (rod.men as f64 - 1.0) * rod.spacing_m;
+            let needed = span + rod.travel_m + 2.0 * half_width;
+            if needed > f.width_m {
+                return Err(TableError::MenDoNotFit {
+                    rod: i,
+                    men: rod.men,
+                    spacing_m: rod.spacing_m,
+                    travel_m: rod.travel_m,
+                    needed_m: needed,
+                    width_m: f.width_m,
+                });
+            }
+        }
+        Ok(())
+    }
+}
