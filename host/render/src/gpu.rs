@@ -1,0 +1,645 @@
+//! The wgpu renderer: device, pipelines and offscreen frames.
+
+use crate::image::RgbaImage;
+use crate::scene::{self, MeshInstance, Scene, Screen, Sprite, UiRect};
+use crate::snapshot::FrameSnapshot;
+use crate::RenderError;
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Largest offscreen image side, pixels.
+pub const MAX_SIDE: u32 = 8192;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Globals {
+    view_proj: [[f32; 4]; 4],
+    cam_right: [f32; 4],
+    cam_up: [f32; 4],
+    eye: [f32; 4],
+    light_dir: [f32; 4],
+    screen: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Vertex {
+    pos: [f32; 3],
+    normal: [f32; 3],
+}
+
+struct Mesh {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    count: u32,
+}
+
+struct Target {
+    width: u32,
+    height: u32,
+    color: wgpu::Texture,
+    depth: wgpu::Texture,
+    readback: wgpu::Buffer,
+    padded_row: u32,
+}
+
+/// Which adapter renders, in words (name and backend).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct AdapterSummary {
+    /// Adapter name, e.g. `llvmpipe (LLVM 15.0.6, 256 bits)`.
+    pub name: String,
+    /// Backend, e.g. `Vulkan`.
+    pub backend: String,
+    /// Device type, e.g. `Cpu`.
+    pub device_type: String,
+}
+
+/// An offscreen renderer on whatever adapter exists. Create once, render many frames.
+pub struct Renderer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    adapter: AdapterSummary,
+    bind_layout: wgpu::BindGroupLayout,
+    background: wgpu::RenderPipeline,
+    mesh: wgpu::RenderPipeline,
+    shadow: wgpu::RenderPipeline,
+    glow: wgpu::RenderPipeline,
+    ui: wgpu::RenderPipeline,
+    cube: Mesh,
+    sphere: Mesh,
+    target: Option<Target>,
+}
+
+impl Renderer {
+    /// Opens the first adapter available (a hardware GPU, else a fallback/software one
+    /// such as Mesa's lavapipe). No adapter at all is [`RenderError::NoAdapter`].
+    pub fn new() -> Result<Renderer, RenderError> {
+        let instance = wgpu::Instance::new(&wgpu::InstanceDescriptor {
+            backends: wgpu::Backends::all(),
+            ..Default::default()
+        });
+        let mut opts = wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+        };
+        let adapter = match pollster::block_on(instance.request_adapter(&opts)) {
+            Ok(a) => a,
+            Err(first) => {
+                opts.force_fallback_adapter = true;
+                pollster::block_on(instance.request_adapter(&opts))
+                    .map_err(|_| RenderError::NoAdapter(first.to_string()))?
+            }
+        };
+        let info = adapter.get_info();
+        let adapter_summary = AdapterSummary {
+            name: info.name.clone(),
+            backend: format!("{:?}", info.backend),
+            device_type: format!("{:?}", info.device_type),
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("foosball-render"),
+            required_features: wgpu::Features::empty(),
+            required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+            ..Default::default()
+        }))
+        .map_err(|e| RenderError::Device(e.to_string()))?;
+        device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let r = Self::build(device, queue, adapter_summary);
+        if let Some(e) = pollster::block_on(r.device.pop_error_scope()) {
+            return Err(RenderError::Gpu(e.to_string()));
+        }
+        Ok(r)
+    }
+
+    fn build(device: wgpu::Device, queue: wgpu::Queue, adapter: AdapterSummary) -> Renderer {
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("scene.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("shaders/scene.wgsl").into()),
+        });
+        let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("globals"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("scene"),
+            bind_group_layouts: &[&bind_layout],
+            push_constant_ranges: &[],
+        });
+        let vertex_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+        };
+        let mesh_instances = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<MeshInstance>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &wgpu::vertex_attr_array![
+                2 => Float32x4, 3 => Float32x4, 4 => Float32x4, 5 => Float32x4
+            ],
+        };
+        let sprite_instances = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Sprite>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4, 2 => Float32x4],
+        };
+        let ui_instances = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<UiRect>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4],
+        };
+        let premultiplied = wgpu::BlendState {
+            color: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+                operation: wgpu::BlendOperation::Add,
+            },
+            alpha: wgpu::BlendComponent::OVER,
+        };
+        let additive = wgpu::BlendState {
+            color: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: wgpu::BlendOperation::Add,
+            },
+            alpha: wgpu::BlendComponent::OVER,
+        };
+        let pipeline = |label: &str,
+                        vs: &str,
+                        fs: &str,
+                        buffers: &[wgpu::VertexBufferLayout],
+                        blend: Option<wgpu::BlendState>,
+                        depth_write: bool,
+                        depth_compare: wgpu::CompareFunction,
+                        cull: Option<wgpu::Face>| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some(vs),
+                    compilation_options: Default::default(),
+                    buffers,
+                },
+                fragment: Some(wgpu::FragmentState {
+                    module: &shader,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: COLOR_FORMAT,
+                        blend,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: cull,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: depth_write,
+                    depth_compare,
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                multiview: None,
+                cache: None,
+            })
+        };
+        use wgpu::CompareFunction::{Always, Less, LessEqual};
+        let background = pipeline(
+            "background",
+            "vs_bg",
+            "fs_bg",
+            &[],
+            None,
+            false,
+            Always,
+            None,
+        );
+        let mesh = pipeline(
+            "mesh",
+            "vs_mesh",
+            "fs_mesh",
+            &[vertex_layout, mesh_instances],
+            None,
+            true,
+            Less,
+            Some(wgpu::Face::Back),
+        );
+        let shadow = pipeline(
+            "shadow",
+            "vs_sprite",
+            "fs_sprite",
+            std::slice::from_ref(&sprite_instances),
+            Some(premultiplied),
+            false,
+            LessEqual,
+            None,
+        );
+        let glow = pipeline(
+            "glow",
+            "vs_sprite",
+            "fs_sprite",
+            &[sprite_instances],
+            Some(additive),
+            false,
+            LessEqual,
+            None,
+        );
+        let ui = pipeline(
+            "ui",
+            "vs_ui",
+            "fs_ui",
+            &[ui_instances],
+            Some(premultiplied),
+            false,
+            Always,
+            None,
+        );
+        let (cv, ci) = cube_mesh();
+        let (sv, si) = sphere_mesh(14, 24);
+        let cube = upload_mesh(&device, &cv, &ci);
+        let sphere = upload_mesh(&device, &sv, &si);
+        Renderer {
+            device,
+            queue,
+            adapter,
+            bind_layout,
+            background,
+            mesh,
+            shadow,
+            glow,
+            ui,
+            cube,
+            sphere,
+            target: None,
+        }
+    }
+
+    /// The adapter in use.
+    pub fn adapter(&self) -> &AdapterSummary {
+        &self.adapter
+    }
+
+    fn ensure_target(&mut self, width: u32, height: u32) -> Result<(), RenderError> {
+        if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
+            return Err(RenderError::BadSize {
+                width,
+                height,
+                max: MAX_SIDE,
+            });
+        }
+        if matches!(&self.target, Some(t) if t.width == width && t.height == height) {
+            return Ok(());
+        }
+        let size = wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        };
+        let tex = |label, format, usage| {
+            self.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let color = tex(
+            "color",
+            COLOR_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
+        let depth = tex(
+            "depth",
+            DEPTH_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        let padded_row = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let readback = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: padded_row as u64 * height as u64,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        self.target = Some(Target {
+            width,
+            height,
+            color,
+            depth,
+            readback,
+            padded_row,
+        });
+        Ok(())
+    }
+
+    /// Renders a frame offscreen and waits for the GPU to finish it (no read back).
+    pub fn render(
+        &mut self,
+        snap: &FrameSnapshot,
+        screen: Screen,
+        width: u32,
+        height: u32,
+    ) -> Result<(), RenderError> {
+        self.frame(snap, screen, width, height, false)
+    }
+
+    /// Renders a frame offscreen and reads it back as an RGBA image (sRGB bytes).
+    pub fn render_to_rgba(
+        &mut self,
+        snap: &FrameSnapshot,
+        screen: Screen,
+        width: u32,
+        height: u32,
+    ) -> Result<RgbaImage, RenderError> {
+        self.frame(snap, screen, width, height, true)?;
+        self.read_back()
+    }
+
+    fn frame(
+        &mut self,
+        snap: &FrameSnapshot,
+        screen: Screen,
+        width: u32,
+        height: u32,
+        copy: bool,
+    ) -> Result<(), RenderError> {
+        self.ensure_target(width, height)?;
+        let scene = scene::build(snap, screen, width, height);
+        self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        self.encode(&scene, width, height, copy);
+        if let Some(e) = pollster::block_on(self.device.pop_error_scope()) {
+            return Err(RenderError::Gpu(e.to_string()));
+        }
+        self.device
+            .poll(wgpu::PollType::Wait)
+            .map_err(|e| RenderError::Gpu(e.to_string()))?;
+        Ok(())
+    }
+
+    fn encode(&self, scene: &Scene, width: u32, height: u32, copy: bool) {
+        let Some(target) = &self.target else { return };
+        let cam = &scene.camera;
+        let light = glam::Vec3::new(-0.35, -0.55, 0.9).normalize();
+        let globals = Globals {
+            view_proj: cam.view_proj.to_cols_array_2d(),
+            cam_right: cam.right.extend(0.0).to_array(),
+            cam_up: cam.up.extend(0.0).to_array(),
+            eye: cam.eye.extend(1.0).to_array(),
+            light_dir: light.extend(0.0).to_array(),
+            screen: [width as f32, height as f32, scene.time_s, 0.0],
+        };
+        let d = &self.device;
+        let uniform = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("globals"),
+            contents: bytemuck::bytes_of(&globals),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("globals"),
+            layout: &self.bind_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            }],
+        });
+        let instances = |label: &str, bytes: &[u8]| {
+            (!bytes.is_empty()).then(|| {
+                d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents: bytes,
+                    usage: wgpu::BufferUsages::VERTEX,
+                })
+            })
+        };
+        let boxes = instances("boxes", bytemuck::cast_slice(&scene.boxes));
+        let spheres = instances("spheres", bytemuck::cast_slice(&scene.spheres));
+        let shadows = instances("shadows", bytemuck::cast_slice(&scene.shadows));
+        let particles = instances("particles", bytemuck::cast_slice(&scene.particles));
+        let ui = instances("ui", bytemuck::cast_slice(&scene.ui));
+
+        let color_view = target.color.create_view(&Default::default());
+        let depth_view = target.depth.create_view(&Default::default());
+        let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("frame"),
+        });
+        {
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("scene"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &color_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+            });
+            pass.set_bind_group(0, &bind, &[]);
+            pass.set_pipeline(&self.background);
+            pass.draw(0..3, 0..1);
+            pass.set_pipeline(&self.mesh);
+            for (mesh, buf, n) in [
+                (&self.cube, &boxes, scene.boxes.len()),
+                (&self.sphere, &spheres, scene.spheres.len()),
+            ] {
+                if let Some(buf) = buf {
+                    pass.set_vertex_buffer(0, mesh.vertices.slice(..));
+                    pass.set_vertex_buffer(1, buf.slice(..));
+                    pass.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                    pass.draw_indexed(0..mesh.count, 0, 0..n as u32);
+                }
+            }
+            for (pipeline, buf, n) in [
+                (&self.shadow, &shadows, scene.shadows.len()),
+                (&self.glow, &particles, scene.particles.len()),
+                (&self.ui, &ui, scene.ui.len()),
+            ] {
+                if let Some(buf) = buf {
+                    pass.set_pipeline(pipeline);
+                    pass.set_vertex_buffer(0, buf.slice(..));
+                    pass.draw(0..6, 0..n as u32);
+                }
+            }
+        }
+        if copy {
+            enc.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &target.color,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &target.readback,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(target.padded_row),
+                        rows_per_image: Some(height),
+                    },
+                },
+                wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+        self.queue.submit([enc.finish()]);
+    }
+
+    fn read_back(&self) -> Result<RgbaImage, RenderError> {
+        let Some(target) = &self.target else {
+            return Err(RenderError::Gpu("no render target".into()));
+        };
+        let slice = target.readback.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::Wait)
+            .map_err(|e| RenderError::Gpu(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| RenderError::Gpu(e.to_string()))?
+            .map_err(|e| RenderError::Gpu(e.to_string()))?;
+        let mut data = Vec::with_capacity((target.width * target.height * 4) as usize);
+        {
+            let mapped = slice.get_mapped_range();
+            for row in mapped.chunks(target.padded_row as usize) {
+                data.extend_from_slice(&row[..(target.width * 4) as usize]);
+            }
+        }
+        target.readback.unmap();
+        Ok(RgbaImage::new(target.width, target.height, data))
+    }
+}
+
+fn upload_mesh(device: &wgpu::Device, v: &[Vertex], i: &[u32]) -> Mesh {
+    Mesh {
+        vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("mesh vertices"),
+            contents: bytemuck::cast_slice(v),
+            usage: wgpu::BufferUsages::VERTEX,
+        }),
+        indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("mesh indices"),
+            contents: bytemuck::cast_slice(i),
+            usage: wgpu::BufferUsages::INDEX,
+        }),
+        count: i.len() as u32,
+    }
+}
+
+/// The unit cube `[-1, 1]³`, 4 vertices per face (flat normals), counter-clockwise.
+fn cube_mesh() -> (Vec<Vertex>, Vec<u32>) {
+    let mut v = Vec::new();
+    let mut idx = Vec::new();
+    for axis in 0..3 {
+        for sign in [-1.0f32, 1.0] {
+            let mut n = [0.0; 3];
+            n[axis] = sign;
+            let u = (axis + 1) % 3;
+            let w = (axis + 2) % 3;
+            let base = v.len() as u32;
+            for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let mut p = [0.0; 3];
+                p[axis] = sign;
+                p[u] = a;
+                p[w] = b;
+                v.push(Vertex { pos: p, normal: n });
+            }
+            // (u, w, axis) is right-handed: counter-clockwise seen from +axis.
+            if sign > 0.0 {
+                idx.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
+            } else {
+                idx.extend([base, base + 2, base + 1, base, base + 3, base + 2]);
+            }
+        }
+    }
+    (v, idx)
+}
+
+/// The unit sphere as a latitude/longitude mesh.
+fn sphere_mesh(rings: u32, segments: u32) -> (Vec<Vertex>, Vec<u32>) {
+    let mut v = Vec::new();
+    for r in 0..=rings {
+        let theta = std::f32::consts::PI * r as f32 / rings as f32;
+        for s in 0..=segments {
+            let phi = std::f32::consts::TAU * s as f32 / segments as f32;
+            let p = [
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            ];
+            v.push(Vertex { pos: p, normal: p });
+        }
+    }
+    let mut idx = Vec::new();
+    let row = segments + 1;
+    for r in 0..rings {
+        for s in 0..segments {
+            let a = r * row + s;
+            let b = a + row;
+            idx.extend([a, b, a + 1, a + 1, b, b + 1]);
+        }
+    }
+    (v, idx)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cube_faces_wind_outwards() {
+        let (v, i) = cube_mesh();
+        for t in i.chunks(3) {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|k| glam::Vec3::from(v[k as usize].pos));
+            let n = glam::Vec3::from(v[t[0] as usize].normal);
+            assert!((b - a).cross(c - a).dot(n) > 0.0);
+        }
+    }
+
+    #[test]
+    fn sphere_faces_wind_outwards() {
+        let (v, i) = sphere_mesh(6, 8);
+        for t in i.chunks(3) {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|k| glam::Vec3::from(v[k as usize].pos));
+            let area = (b - a).cross(c - a);
+            if area.length() > 1e-6 {
+                assert!(area.dot(a + b + c) > 0.0);
+            }
+        }
+    }
+}

@@ -1,0 +1,73 @@
+//! Space Foosball rendering with wgpu (paper §5): the table in space, characters from
+//! their boxes in team colours, the ball scaled up as it rises with a shadow blob,
+//! particles on kicks, bounces and goals, the score, and the cabinet's screens.
+//!
+//! The renderer draws a [`FrameSnapshot`], a plain value independent of the physics
+//! crate; the match thread publishes snapshots and the render thread interpolates
+//! between the two newest ([`FrameSnapshot::at_time`]), so a slow frame never blocks
+//! physics. [`Renderer`] renders offscreen on whatever adapter exists, including Mesa's
+//! software Vulkan driver (lavapipe); [`render_to_rgba`] is the one-shot form.
+
+pub mod camera;
+pub mod demo;
+pub mod font;
+mod gpu;
+mod image;
+pub mod scene;
+pub mod snapshot;
+
+pub use camera::Camera;
+pub use gpu::{AdapterSummary, Renderer, MAX_SIDE};
+pub use image::RgbaImage;
+pub use scene::{ball_visual_scale, Screen};
+pub use snapshot::{
+    BallSnapshot, BoxPose, EventKind, FrameSnapshot, ManSnapshot, RenderEvent, RodPose,
+    TableGeometry,
+};
+
+/// Why a picture could not be rendered.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// No graphics adapter at all, not even a software one.
+    #[error(
+        "no graphics adapter found ({0}); for software rendering install Mesa's Vulkan \
+         drivers (Debian/Ubuntu: `apt-get install mesa-vulkan-drivers`)"
+    )]
+    NoAdapter(String),
+    /// The adapter refused to open a device.
+    #[error("could not open the graphics device: {0}")]
+    Device(String),
+    /// The requested image size is zero or too large.
+    #[error("image size {width}x{height} is not allowed (each side 1..={max})")]
+    BadSize {
+        /// Requested width.
+        width: u32,
+        /// Requested height.
+        height: u32,
+        /// Largest side.
+        max: u32,
+    },
+    /// The GPU reported an error while rendering or reading back.
+    #[error("GPU error: {0}")]
+    Gpu(String),
+    /// Writing a PNG failed.
+    #[error("could not write PNG {path}: {message}")]
+    Png {
+        /// The file.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// Renders one picture of `screen` showing `snapshot` offscreen, `width × height`
+/// pixels, on the first adapter available. Opens a device each call: for many frames
+/// keep a [`Renderer`].
+pub fn render_to_rgba(
+    snapshot: &FrameSnapshot,
+    screen: Screen,
+    width: u32,
+    height: u32,
+) -> Result<RgbaImage, RenderError> {
+    Renderer::new()?.render_to_rgba(snapshot, screen, width, height)
+}

@@ -1,0 +1,809 @@
+//! The scene as GPU instance lists, built on the CPU from a snapshot and a screen: what
+//! is drawn where. No GPU calls here, so it is testable anywhere.
+
+use crate::camera::Camera;
+use crate::font;
+use crate::snapshot::{BoxPose, EventKind, FrameSnapshot};
+use bytemuck::{Pod, Zeroable};
+use glam::{Quat, Vec3};
+use space_foosball::side::Side;
+use space_foosball::table::CharacterType;
+
+/// Home team colour (linear RGB): electric blue.
+pub const HOME_COLOR: [f32; 3] = [0.05, 0.42, 1.0];
+/// Away team colour (linear RGB): crimson.
+pub const AWAY_COLOR: [f32; 3] = [1.0, 0.10, 0.22];
+/// Ball colour (linear RGB): gold, distinct from both teams and the stars.
+pub const BALL_COLOR: [f32; 3] = [1.0, 0.72, 0.06];
+/// Score digits colour (linear RGB): white.
+pub const SCORE_COLOR: [f32; 3] = [1.0, 1.0, 1.0];
+
+/// Visual ball growth per metre of height (see [`ball_visual_scale`]).
+pub const BALL_SCALE_PER_M: f64 = 6.0;
+/// Largest visual ball scale.
+pub const BALL_SCALE_MAX: f64 = 2.5;
+/// Longest particle life, s: events older than this draw nothing.
+pub const PARTICLE_LIFETIME_S: f64 = 1.6;
+/// How long a bounce squashes the ball, s (exaggerated bounce, paper §5).
+pub const SQUASH_S: f64 = 0.12;
+
+/// The height cue of paper §5: the ball is drawn larger the higher it flies.
+///
+/// With `h = max(0, z − r)` the height of the ball's underside above the field (m),
+/// the drawn radius is `r · s(h)` with `s(h) = min(1 + 6·h, 2.5)`: ×1 on the cloth,
+/// ×1.6 at 10 cm (about the rod height), capped at ×2.5 from 25 cm. The growth is
+/// on top of perspective (a higher ball is also nearer the camera). The drawn sphere
+/// keeps its centre, so its underside never sinks into the cloth (`r·s − r = 6·r·h < h`
+/// for any ball smaller than 16 cm).
+pub fn ball_visual_scale(z_m: f64, radius_m: f64) -> f64 {
+    let h = (z_m - radius_m).max(0.0);
+    if !h.is_finite() {
+        return 1.0;
+    }
+    (1.0 + BALL_SCALE_PER_M * h).min(BALL_SCALE_MAX)
+}
+
+/// The screens of the cabinet.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Screen {
+    /// Logo and the computer playing itself; "push a rod to start".
+    Attract,
+    /// Each team chooses its character type by spinning a rod.
+    CharacterSelect,
+    /// The match with the score.
+    Match,
+    /// The splash after a goal.
+    GoalCeremony,
+    /// The final score and the winner.
+    FinalResult,
+    /// The board was unplugged: play paused until it comes back.
+    BoardLost,
+    /// Calibration: the player is guided through the rod motions.
+    Calibration,
+}
+
+impl Screen {
+    /// Every screen.
+    pub const ALL: [Screen; 7] = [
+        Screen::Attract,
+        Screen::CharacterSelect,
+        Screen::Match,
+        Screen::GoalCeremony,
+        Screen::FinalResult,
+        Screen::BoardLost,
+        Screen::Calibration,
+    ];
+
+    /// Command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Screen::Attract => "attract",
+            Screen::CharacterSelect => "character-select",
+            Screen::Match => "match",
+            Screen::GoalCeremony => "goal-ceremony",
+            Screen::FinalResult => "final-result",
+            Screen::BoardLost => "board-lost",
+            Screen::Calibration => "calibration",
+        }
+    }
+
+    /// The screen of a command-line name.
+    pub fn from_name(name: &str) -> Option<Screen> {
+        Screen::ALL.into_iter().find(|s| s.name() == name)
+    }
+}
+
+/// A box or sphere instance: centre (`w` = emissive), half extents, orientation
+/// quaternion `[x, y, z, w]`, colour (linear RGBA).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct MeshInstance {
+    /// Centre xyz, m; `w`: emissive strength.
+    pub center: [f32; 4],
+    /// Half extents xyz, m (radius for the unit sphere).
+    pub half: [f32; 4],
+    /// Orientation quaternion.
+    pub rotation: [f32; 4],
+    /// Linear RGBA.
+    pub color: [f32; 4],
+}
+
+/// A soft round sprite: a billboard (`center.w = 0`) or lying on the field
+/// (`center.w = 1`). `size.x` radius (m), `size.y` edge hardness exponent.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Sprite {
+    /// Centre xyz, m; `w` mode.
+    pub center: [f32; 4],
+    /// Radius, hardness.
+    pub size: [f32; 4],
+    /// Linear RGBA (alpha multiplies).
+    pub color: [f32; 4],
+}
+
+/// A screen-space rectangle `[x0, y0, x1, y1]` in pixels (y down) with a colour.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct UiRect {
+    /// Pixels.
+    pub rect: [f32; 4],
+    /// Linear RGBA.
+    pub color: [f32; 4],
+}
+
+/// Everything one frame draws.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// The camera.
+    pub camera: Camera,
+    /// Time for the animated background, s.
+    pub time_s: f32,
+    /// Lit boxes (table, rods, men).
+    pub boxes: Vec<MeshInstance>,
+    /// Lit spheres (the ball).
+    pub spheres: Vec<MeshInstance>,
+    /// Darkening blobs on the field (alpha blended).
+    pub shadows: Vec<Sprite>,
+    /// Glowing particles (additive).
+    pub particles: Vec<Sprite>,
+    /// The 2-D overlay, drawn last in order.
+    pub ui: Vec<UiRect>,
+}
+
+/// Builds the scene of `snap` on `screen` for an image `width × height`.
+pub fn build(snap: &FrameSnapshot, screen: Screen, width: u32, height: u32) -> Scene {
+    let camera = Camera::for_table(&snap.table, width as f32 / height.max(1) as f32);
+    let mut scene = Scene {
+        camera,
+        time_s: snap.time_s as f32,
+        boxes: Vec::new(),
+        spheres: Vec::new(),
+        shadows: Vec::new(),
+        particles: Vec::new(),
+        ui: Vec::new(),
+    };
+    table_boxes(snap, &mut scene.boxes);
+    men_boxes(snap, &mut scene.boxes);
+    ball(snap, &mut scene);
+    particles(snap, &mut scene.particles);
+    overlay(snap, screen, width as f32, height as f32, &mut scene.ui);
+    scene
+}
+
+fn team_color(side: Side) -> [f32; 3] {
+    match side {
+        Side::Home => HOME_COLOR,
+        Side::Away => AWAY_COLOR,
+    }
+}
+
+fn rgba(c: [f32; 3], a: f32) -> [f32; 4] {
+    [c[0], c[1], c[2], a]
+}
+
+fn scale3(c: [f32; 3], k: f32) -> [f32; 3] {
+    [c[0] * k, c[1] * k, c[2] * k]
+}
+
+fn cuboid(
+    center: [f32; 3],
+    half: [f32; 3],
+    rot: Quat,
+    color: [f32; 3],
+    emissive: f32,
+) -> MeshInstance {
+    MeshInstance {
+        center: [center[0], center[1], center[2], emissive],
+        half: [half[0], half[1], half[2], 0.0],
+        rotation: rot.to_array(),
+        color: rgba(color, 1.0),
+    }
+}
+
+fn axis_box(center: [f32; 3], half: [f32; 3], color: [f32; 3], emissive: f32) -> MeshInstance {
+    cuboid(center, half, Quat::IDENTITY, color, emissive)
+}
+
+/// Cloth, markings, walls with goal mouths, goal boxes, the hull under the table, rods
+/// and handles.
+fn table_boxes(snap: &FrameSnapshot, out: &mut Vec<MeshInstance>) {
+    let t = &snap.table;
+    let hl = 0.5 * t.length_m as f32;
+    let hw = 0.5 * t.width_m as f32;
+    let wall_h = t.wall_height_m as f32;
+    let gw = 0.5 * t.goal_width_m as f32;
+    let gh = t.goal_height_m as f32;
+    let gd = t.goal_depth_m as f32;
+    let wt = 0.025f32; // wall thickness
+    let cloth = [0.02, 0.20, 0.09];
+    let wall = [0.09, 0.10, 0.16];
+    let glow = [0.1, 0.6, 0.8];
+    let line = [0.55, 0.95, 0.85];
+
+    // Hull under the table and the cloth.
+    out.push(axis_box(
+        [0.0, 0.0, -0.06],
+        [hl + gd + 0.06, hw + 0.06, 0.05],
+        [0.035, 0.035, 0.06],
+        0.0,
+    ));
+    out.push(axis_box([0.0, 0.0, -0.005], [hl, hw, 0.005], cloth, 0.05));
+    // Markings: centre line, centre circle, goal areas (thin glowing strips).
+    let lw = 0.003f32;
+    let lz = 0.0004f32;
+    out.push(axis_box([0.0, 0.0, lz], [lw, hw, lz], line, 0.6));
+    let rc = 0.09f32;
+    for k in 0..28 {
+        let a = k as f32 / 28.0 * std::f32::consts::TAU;
+        let seg = Quat::from_rotation_z(a);
+        out.push(cuboid(
+            [rc * a.cos(), rc * a.sin(), lz],
+            [lw, rc * 0.115, lz],
+            seg,
+            line,
+            0.6,
+        ));
+    }
+    for s in [-1.0f32, 1.0] {
+        let depth = 0.08f32;
+        let half_w = gw + 0.06;
+        let x_in = s * (hl - depth);
+        out.push(axis_box([x_in, 0.0, lz], [lw, half_w, lz], line, 0.6));
+        for sy in [-1.0f32, 1.0] {
+            out.push(axis_box(
+                [s * (hl - 0.5 * depth), sy * half_w, lz],
+                [0.5 * depth, lw, lz],
+                line,
+                0.6,
+            ));
+        }
+    }
+    // Side walls with a glowing top edge.
+    for s in [-1.0f32, 1.0] {
+        let y = s * (hw + 0.5 * wt);
+        out.push(axis_box(
+            [0.0, y, 0.5 * wall_h],
+            [hl + wt, 0.5 * wt, 0.5 * wall_h],
+            wall,
+            0.0,
+        ));
+        out.push(axis_box(
+            [0.0, y, wall_h + 0.002],
+            [hl + wt, 0.004, 0.002],
+            glow,
+            0.8,
+        ));
+    }
+    // End walls around the goal mouths, goal boxes glowing in the defending team's colour.
+    for (side, s) in [(Side::Home, -1.0f32), (Side::Away, 1.0)] {
+        let x = s * (hl + 0.5 * wt);
+        let seg = 0.5 * (hw - gw);
+        for sy in [-1.0f32, 1.0] {
+            out.push(axis_box(
+                [x, sy * (gw + seg), 0.5 * wall_h],
+                [0.5 * wt, seg, 0.5 * wall_h],
+                wall,
+                0.0,
+            ));
+        }
+        out.push(axis_box(
+            [x, 0.0, 0.5 * (gh + wall_h)],
+            [0.5 * wt, gw, 0.5 * (wall_h - gh)],
+            wall,
+            0.0,
+        ));
+        out.push(axis_box(
+            [x, 0.0, wall_h + 0.002],
+            [0.004, hw + wt, 0.002],
+            glow,
+            0.8,
+        ));
+        let c = team_color(side);
+        // Goal box: floor, back and sides, lit from inside.
+        let gx = s * (hl + 0.5 * gd);
+        out.push(axis_box(
+            [gx, 0.0, -0.002],
+            [0.5 * gd, gw, 0.002],
+            scale3(c, 0.25),
+            0.8,
+        ));
+        out.push(axis_box(
+            [s * (hl + gd), 0.0, 0.5 * gh],
+            [0.004, gw + 0.004, 0.5 * gh],
+            c,
+            1.0,
+        ));
+        for sy in [-1.0f32, 1.0] {
+            out.push(axis_box(
+                [gx, sy * (gw + 0.004), 0.5 * gh],
+                [0.5 * gd, 0.004, 0.5 * gh],
+                scale3(c, 0.6),
+                0.5,
+            ));
+        }
+        out.push(axis_box(
+            [gx, 0.0, gh + 0.004],
+            [0.5 * gd, gw + 0.008, 0.004],
+            scale3(c, 0.5),
+            0.3,
+        ));
+    }
+    // Rods: thin square bars (turning with the rod angle) running past both walls, and
+    // a handle on the owning team's side (Home at −y, Away at +y).
+    let rod_h = t.rod_height_m as f32;
+    let rod_half_len = hw + 0.16;
+    for (i, rod) in t.rods.iter().enumerate() {
+        let pose = snap.rods.get(i).copied().unwrap_or_default();
+        let slide = pose.slide_m as f32;
+        let rot = Quat::from_rotation_y(pose.angle_rad as f32);
+        let x = rod.x_m as f32;
+        out.push(cuboid(
+            [x, slide, rod_h],
+            [0.006, rod_half_len, 0.006],
+            rot,
+            [0.55, 0.58, 0.66],
+            0.0,
+        ));
+        let sign = match rod.team {
+            Side::Home => -1.0f32,
+            Side::Away => 1.0,
+        };
+        out.push(cuboid(
+            [x, slide + sign * (rod_half_len + 0.045), rod_h],
+            [0.016, 0.045, 0.016],
+            rot,
+            scale3(team_color(rod.team), 0.7),
+            0.2,
+        ));
+    }
+}
+
+fn pose_instance(b: &BoxPose, color: [f32; 3], emissive: f32) -> MeshInstance {
+    let q = Quat::from_array(b.rotation.map(|v| v as f32)).normalize();
+    cuboid(
+        b.center.map(|v| v as f32),
+        b.half_extents.map(|v| v as f32),
+        q,
+        color,
+        emissive,
+    )
+}
+
+/// The men: their boxes in team colour, the first (body) bright, the others (legs)
+/// darker; short-and-wide men a little warmer so the two types differ in tint as well
+/// as shape.
+fn men_boxes(snap: &FrameSnapshot, out: &mut Vec<MeshInstance>) {
+    for man in &snap.men {
+        let base = team_color(man.team);
+        let base = match man.character {
+            CharacterType::TallThin => base,
+            CharacterType::ShortWide => [
+                (base[0] * 0.8 + 0.2).min(1.0),
+                base[1] * 0.9 + 0.05,
+                base[2] * 0.8,
+            ],
+        };
+        for (k, b) in man.boxes.iter().enumerate() {
+            let c = if k == 0 { base } else { scale3(base, 0.55) };
+            out.push(pose_instance(b, c, 0.12));
+        }
+    }
+}
+
+/// The ball (scaled by height, squashed by a fresh bounce, stretched by speed) and its
+/// shadow blob.
+fn ball(snap: &FrameSnapshot, scene: &mut Scene) {
+    let r = snap.table.ball_radius_m;
+    let p = snap.ball.position;
+    if !p.iter().all(|v| v.is_finite()) {
+        return;
+    }
+    let s = ball_visual_scale(p[2], r);
+    let radius = (r * s) as f32;
+    // Exaggerated bounce: a fresh bounce squashes the ball along the contact normal
+    // (vertical for a floor bounce, along the velocity otherwise), relaxing linearly.
+    let mut half = Vec3::splat(radius);
+    let mut rot = Quat::IDENTITY;
+    let latest_bounce = snap
+        .events
+        .iter()
+        .filter(|e| matches!(e.kind, EventKind::Bounce | EventKind::Kick))
+        .map(|e| (snap.time_s - e.time_s, e))
+        .filter(|(age, _)| *age >= 0.0 && *age < SQUASH_S)
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    let v = Vec3::from(snap.ball.velocity.map(|x| x as f32));
+    if let Some((age, e)) = latest_bounce {
+        let k = (1.0 - age / SQUASH_S) as f32;
+        let floor = e.position[2] <= 1.5 * r;
+        let normal = if floor || v.length() < 1e-3 {
+            Vec3::Z
+        } else {
+            v.normalize()
+        };
+        rot = Quat::from_rotation_arc(Vec3::Z, normal);
+        half = Vec3::new(
+            radius * (1.0 + 0.25 * k),
+            radius * (1.0 + 0.25 * k),
+            radius * (1.0 - 0.4 * k),
+        );
+    } else if v.length() > 0.5 {
+        // Motion stretch along the velocity.
+        let st = (1.0 + 0.05 * v.length()).min(1.35);
+        rot = Quat::from_rotation_arc(Vec3::Z, v.normalize());
+        half = Vec3::new(radius / st.sqrt(), radius / st.sqrt(), radius * st);
+    }
+    scene.spheres.push(MeshInstance {
+        center: [p[0] as f32, p[1] as f32, p[2] as f32, 0.35],
+        half: [half.x, half.y, half.z, 0.0],
+        rotation: rot.to_array(),
+        color: rgba(BALL_COLOR, 1.0),
+    });
+    // Shadow: wider and fainter the higher the ball.
+    let h = (p[2] - r).max(0.0) as f32;
+    scene.shadows.push(Sprite {
+        center: [p[0] as f32, p[1] as f32, 0.0012, 1.0],
+        size: [r as f32 * (1.15 + 3.0 * h / 0.1), 1.3, 0.0, 0.0],
+        color: [0.0, 0.0, 0.0, 0.8 / (1.0 + 8.0 * h / 0.1)],
+    });
+}
+
+/// Integer hash to `0…1`.
+fn hash01(mut x: u32) -> f32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^= x >> 16;
+    (x >> 8) as f32 / (1u32 << 24) as f32
+}
+
+/// Particles are a pure function of the events and the time (no state): every event
+/// younger than its life emits a deterministic burst.
+fn particles(snap: &FrameSnapshot, out: &mut Vec<Sprite>) {
+    for e in &snap.events {
+        let age = snap.time_s - e.time_s;
+        let (count, speed, life, size, colors): (u32, f32, f64, f32, [[f32; 3]; 3]) = match e.kind {
+            EventKind::Kick => (
+                28,
+                0.55,
+                0.6,
+                0.010,
+                [[1.0, 0.55, 0.1], [1.0, 0.85, 0.3], [1.0, 0.3, 0.05]],
+            ),
+            EventKind::Bounce => (
+                16,
+                0.3,
+                0.45,
+                0.008,
+                [[0.3, 0.9, 1.0], [0.6, 0.5, 1.0], [0.9, 1.0, 1.0]],
+            ),
+            EventKind::Goal(side) => (
+                140,
+                1.1,
+                PARTICLE_LIFETIME_S,
+                0.016,
+                [team_color(side), [1.0, 1.0, 1.0], BALL_COLOR],
+            ),
+        };
+        if !(age >= 0.0 && age < life && e.position.iter().all(|v| v.is_finite())) {
+            continue;
+        }
+        let a = age as f32;
+        let fade = (1.0 - (age / life) as f32).powf(1.5);
+        let boost = (1.0 + 0.15 * e.speed as f32).clamp(1.0, 2.0);
+        let seed = (e.time_s * 1000.0) as u32 ^ (e.position[0] * 1.0e4) as i32 as u32;
+        let p0 = Vec3::from(e.position.map(|v| v as f32));
+        for j in 0..count {
+            let h = |k: u32| {
+                hash01(seed.wrapping_mul(747_796_405) ^ (j * 4 + k).wrapping_mul(2_891_336_453))
+            };
+            let phi = h(0) * std::f32::consts::TAU;
+            let cos_t = h(1); // upper hemisphere
+            let sin_t = (1.0 - cos_t * cos_t).sqrt();
+            let dir = Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t);
+            let v = dir * speed * boost * (0.4 + 0.8 * h(2));
+            let mut p = p0 + v * a + Vec3::new(0.0, 0.0, -0.9) * (0.5 * a * a);
+            p.z = p.z.max(0.002);
+            let c = colors[(h(3) * 3.0) as usize % 3];
+            out.push(Sprite {
+                center: [p.x, p.y, p.z, 0.0],
+                size: [
+                    size * (0.6 + 0.6 * h(2)) * (0.5 + 0.5 * fade),
+                    2.0,
+                    0.0,
+                    0.0,
+                ],
+                color: rgba(c, fade),
+            });
+        }
+    }
+}
+
+/// The rectangle of the score display `[x0, y0, x1, y1]` (pixels) on a
+/// `width × height` image.
+pub fn score_rect(width: f32, height: f32) -> [f32; 4] {
+    let cell = score_cell(height);
+    let w = font::text_width("99 - 99", cell) + 8.0 * cell;
+    let h = (font::GLYPH_H as f32 + 4.0) * cell;
+    let x0 = (0.5 * (width - w)).round();
+    let y0 = (0.02 * height).round();
+    [x0, y0, x0 + w, y0 + h]
+}
+
+fn score_cell(height: f32) -> f32 {
+    (height / 90.0).round().max(2.0)
+}
+
+fn text(out: &mut Vec<UiRect>, s: &str, x: f32, y: f32, cell: f32, color: [f32; 4]) {
+    out.extend(
+        font::layout(s, x, y, cell)
+            .into_iter()
+            .map(|rect| UiRect { rect, color }),
+    );
+}
+
+/// Text centred on `cx` with a darker drop shadow; returns its height.
+fn title(out: &mut Vec<UiRect>, s: &str, cx: f32, y: f32, cell: f32, color: [f32; 3]) -> f32 {
+    let x = (cx - 0.5 * font::text_width(s, cell)).round();
+    let off = (0.35 * cell).max(1.0);
+    text(out, s, x + off, y + off, cell, [0.0, 0.0, 0.0, 0.7]);
+    text(out, s, x, y, cell, rgba(color, 1.0));
+    font::GLYPH_H as f32 * cell
+}
+
+fn rect(out: &mut Vec<UiRect>, r: [f32; 4], color: [f32; 4]) {
+    out.push(UiRect { rect: r, color });
+}
+
+fn score_display(snap: &FrameSnapshot, width: f32, height: f32, out: &mut Vec<UiRect>) {
+    let r = score_rect(width, height);
+    let cell = score_cell(height);
+    rect(out, r, [0.01, 0.01, 0.03, 0.85]);
+    // Team colour bars at the two ends.
+    rect(out, [r[0], r[1], r[0] + cell, r[3]], rgba(HOME_COLOR, 1.0));
+    rect(out, [r[2] - cell, r[1], r[2], r[3]], rgba(AWAY_COLOR, 1.0));
+    let home = format!("{:>2}", snap.score[0].min(99));
+    let away = format!("{:<2}", snap.score[1].min(99));
+    let s = format!("{home} - {away}");
+    let x = (0.5 * (r[0] + r[2]) - 0.5 * font::text_width(&s, cell)).round();
+    text(out, &s, x, r[1] + 2.0 * cell, cell, rgba(SCORE_COLOR, 1.0));
+}
+
+fn character_name(c: CharacterType) -> (&'static str, &'static str) {
+    match c {
+        CharacterType::TallThin => ("TALL THIN", "STRONG ATTACK"),
+        CharacterType::ShortWide => ("SHORT WIDE", "STRONG DEFENCE"),
+    }
+}
+
+fn last_scorer(snap: &FrameSnapshot) -> Side {
+    snap.events
+        .iter()
+        .rev()
+        .find_map(|e| match e.kind {
+            EventKind::Goal(side) => Some(side),
+            _ => None,
+        })
+        .unwrap_or(if snap.score[1] > snap.score[0] {
+            Side::Away
+        } else {
+            Side::Home
+        })
+}
+
+fn overlay(snap: &FrameSnapshot, screen: Screen, w: f32, h: f32, out: &mut Vec<UiRect>) {
+    let cx = 0.5 * w;
+    let big = (h / 40.0).round().max(3.0);
+    let mid = (h / 110.0).round().max(2.0);
+    let small = (h / 180.0).round().max(1.0);
+    let dim = |out: &mut Vec<UiRect>, a: f32| rect(out, [0.0, 0.0, w, h], [0.0, 0.0, 0.02, a]);
+    let pulse = 0.65 + 0.35 * (snap.time_s as f32 * 4.0).sin();
+    let white = [1.0, 1.0, 1.0];
+    match screen {
+        Screen::Match => score_display(snap, w, h, out),
+        Screen::Attract => {
+            dim(out, 0.35);
+            let y = 0.18 * h;
+            // The logo: each letter in a colour from blue to crimson.
+            for (line, word) in [(0.0, "SPACE"), (1.0, "FOOSBALL")] {
+                let n = word.len() as f32;
+                let x0 = (cx - 0.5 * font::text_width(word, big)).round();
+                for (i, ch) in word.chars().enumerate() {
+                    let k = i as f32 / (n - 1.0);
+                    let c = [
+                        HOME_COLOR[0] + (AWAY_COLOR[0] - HOME_COLOR[0]) * k,
+                        HOME_COLOR[1] + (1.0 - HOME_COLOR[1]) * (1.0 - (2.0 * k - 1.0).abs()) * 0.6,
+                        HOME_COLOR[2] + (AWAY_COLOR[2] - HOME_COLOR[2]) * k,
+                    ];
+                    let x = x0 + (i as u32 * font::ADVANCE) as f32 * big;
+                    let yy = y + line * 9.0 * big;
+                    let s = ch.to_string();
+                    text(
+                        out,
+                        &s,
+                        x + 0.4 * big,
+                        yy + 0.4 * big,
+                        big,
+                        [0.0, 0.0, 0.0, 0.7],
+                    );
+                    text(out, &s, x, yy, big, rgba(c, 1.0));
+                }
+            }
+            title(
+                out,
+                "PUSH A ROD TO START",
+                cx,
+                0.78 * h,
+                mid,
+                scale3(white, pulse),
+            );
+        }
+        Screen::CharacterSelect => {
+            dim(out, 0.45);
+            title(out, "CHOOSE YOUR TEAM", cx, 0.08 * h, mid * 1.5, white);
+            for (i, side) in Side::BOTH.into_iter().enumerate() {
+                let px = if i == 0 { 0.27 * w } else { 0.73 * w };
+                let (name, note) = character_name(snap.table.characters[i]);
+                let label = if i == 0 { "HOME" } else { "AWAY" };
+                let pw = font::text_width("STRONG DEFENCE", mid) + 4.0 * mid;
+                rect(
+                    out,
+                    [px - 0.5 * pw, 0.3 * h, px + 0.5 * pw, 0.62 * h],
+                    [0.0, 0.0, 0.03, 0.75],
+                );
+                rect(
+                    out,
+                    [px - 0.5 * pw, 0.3 * h, px + 0.5 * pw, 0.3 * h + mid],
+                    rgba(team_color(side), 1.0),
+                );
+                title(out, label, px, 0.34 * h, mid * 1.5, team_color(side));
+                title(out, name, px, 0.45 * h, mid, white);
+                title(out, note, px, 0.54 * h, small, [0.7, 0.8, 0.9]);
+            }
+            title(
+                out,
+                "SPIN A ROD TO CHOOSE - PUSH TO START",
+                cx,
+                0.86 * h,
+                mid,
+                scale3(white, pulse),
+            );
+        }
+        Screen::GoalCeremony => {
+            dim(out, 0.25);
+            let side = last_scorer(snap);
+            title(out, "GOAL!", cx, 0.25 * h, big * 1.6, team_color(side));
+            let who = match side {
+                Side::Home => "HOME SCORES",
+                Side::Away => "AWAY SCORES",
+            };
+            title(out, who, cx, 0.56 * h, mid, white);
+            score_display(snap, w, h, out);
+        }
+        Screen::FinalResult => {
+            dim(out, 0.6);
+            title(out, "FINAL SCORE", cx, 0.14 * h, mid * 1.5, white);
+            let s = format!("{} - {}", snap.score[0], snap.score[1]);
+            title(out, &s, cx, 0.33 * h, big * 1.3, white);
+            let (msg, c) = match snap.score[0].cmp(&snap.score[1]) {
+                std::cmp::Ordering::Greater => ("HOME WINS", HOME_COLOR),
+                std::cmp::Ordering::Less => ("AWAY WINS", AWAY_COLOR),
+                std::cmp::Ordering::Equal => ("DRAW", white),
+            };
+            title(out, msg, cx, 0.65 * h, big, c);
+            title(
+                out,
+                "PUSH A ROD TO PLAY AGAIN",
+                cx,
+                0.86 * h,
+                mid,
+                scale3(white, pulse),
+            );
+        }
+        Screen::BoardLost => {
+            dim(out, 0.72);
+            title(out, "BOARD LOST", cx, 0.3 * h, big, [1.0, 0.35, 0.05]);
+            title(out, "PLAY IS PAUSED", cx, 0.55 * h, mid, white);
+            title(
+                out,
+                "RECONNECT THE BOARD TO RESUME",
+                cx,
+                0.66 * h,
+                mid,
+                scale3(white, pulse),
+            );
+        }
+        Screen::Calibration => {
+            dim(out, 0.55);
+            title(out, "CALIBRATION", cx, 0.12 * h, big, [0.3, 1.0, 0.6]);
+            title(
+                out,
+                "PUSH AND PULL EACH ROD ALL THE WAY",
+                cx,
+                0.45 * h,
+                mid,
+                white,
+            );
+            title(out, "THEN SPIN IT BOTH WAYS", cx, 0.55 * h, mid, white);
+            title(
+                out,
+                "PUSH ROD 1 TO BEGIN",
+                cx,
+                0.8 * h,
+                mid,
+                scale3(white, pulse),
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::snapshot::RenderEvent;
+    use space_foosball::table::Table;
+
+    #[test]
+    fn ball_scale_law() {
+        let r = 0.0175;
+        assert_eq!(ball_visual_scale(r, r), 1.0);
+        assert_eq!(ball_visual_scale(0.0, r), 1.0);
+        assert!((ball_visual_scale(r + 0.1, r) - 1.6).abs() < 1e-12);
+        assert_eq!(ball_visual_scale(5.0, r), BALL_SCALE_MAX);
+        assert_eq!(ball_visual_scale(f64::NAN, r), 1.0);
+        // Monotonic.
+        let mut last = 0.0;
+        for i in 0..100 {
+            let s = ball_visual_scale(r + i as f64 * 0.005, r);
+            assert!(s >= last);
+            last = s;
+        }
+    }
+
+    #[test]
+    fn screens_round_trip_names() {
+        for s in Screen::ALL {
+            assert_eq!(Screen::from_name(s.name()), Some(s));
+        }
+        assert_eq!(Screen::from_name("nope"), None);
+    }
+
+    #[test]
+    fn events_spawn_particles_only_while_young() {
+        let mut snap = FrameSnapshot::at_rest(&Table::standard());
+        snap.time_s = 10.0;
+        let ev = |t: f64, kind| RenderEvent {
+            time_s: t,
+            kind,
+            position: [0.1, 0.0, 0.02],
+            speed: 2.0,
+        };
+        snap.events = vec![
+            ev(9.9, EventKind::Kick),
+            ev(9.95, EventKind::Bounce),
+            ev(9.5, EventKind::Goal(Side::Away)),
+            ev(5.0, EventKind::Kick),
+            ev(11.0, EventKind::Kick),
+        ];
+        let s = build(&snap, Screen::Match, 640, 360);
+        assert_eq!(s.particles.len(), 28 + 16 + 140);
+        assert!(s.particles.iter().all(|p| p.center[2] > 0.0));
+        // A fresh bounce squashes the ball.
+        let b = s.spheres[0];
+        assert!(b.half[2] < b.half[0]);
+        // The same snapshot gives the same particles.
+        assert_eq!(build(&snap, Screen::Match, 640, 360).particles, s.particles);
+    }
+
+    #[test]
+    fn every_screen_has_an_overlay_and_score_text_depends_on_score() {
+        let mut snap = FrameSnapshot::at_rest(&Table::standard());
+        for s in Screen::ALL {
+            assert!(!build(&snap, s, 640, 360).ui.is_empty(), "{s:?}");
+        }
+        let a = build(&snap, Screen::Match, 640, 360).ui.len();
+        snap.score = [1, 8];
+        let b = build(&snap, Screen::Match, 640, 360).ui.len();
+        assert_ne!(a, b);
+    }
+}
