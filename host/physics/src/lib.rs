@@ -13,6 +13,16 @@
 //! * [`measure`] — operation counting (a counting scalar) and the matrix-form baseline that
 //!   reproduce the paper's Table 3.
 //!
+//! Part 2 — contacts, stacking, scenes that declare their effects:
+//!
+//! * [`scene`] — the JSON scene format, validation with located messages, built-in scenes.
+//! * [`geometry`] — shapes, grid broad phase, narrow phase with persistent manifolds,
+//!   box–box SAT with clipping, continuous collision by speculative margins.
+//! * [`dynamics::solver`] — soft-step contact and joint constraints (friction cone,
+//!   restitution, rolling resistance, warm starting).
+//! * [`pipeline`] — the world and its step, built from the declared effects, with counters;
+//!   the pluggable free-body integrator `T ← T·Exp(hV)`; islands and sleeping.
+//!
 //! ## Conventions (used everywhere)
 //! * A twist `se3 = (w, v)`: angular part first, then linear; a wrench `dse3 = (m, f)`:
 //!   moment first, then force. Both are expressed in a body frame unless said otherwise.

@@ -1,7 +1,9 @@
 //! `vphys`: the Virtual Physics command line — Table 3 and peer comparisons.
 
 mod effects;
+mod parry_peer;
 mod peers;
+mod rapier_peer;
 mod run;
 mod table3;
 
@@ -61,7 +63,7 @@ enum Cmd {
         #[arg(long)]
         json: bool,
         /// Steps per measurement.
-        #[arg(long, default_value_t = 300)]
+        #[arg(long, default_value_t = 200)]
         steps: u64,
     },
     /// Comparisons with other engines (Pinocchio).

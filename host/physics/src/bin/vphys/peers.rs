@@ -30,6 +30,25 @@ pub enum PeersCmd {
         #[command(flatten)]
         py: Python,
     },
+    /// Steps the same scenes in our engine and in rapier3d (feature `rapier-peer`), sleeping
+    /// off and on: ms per step, ratio, drift.
+    Rapier {
+        /// One JSON object `{"rows": [...]}` instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Steps (default: each scene's, 600).
+        #[arg(long)]
+        steps: Option<u64>,
+        /// Scenes (built-in names or files).
+        #[arg(long, num_args = 1.., default_values_t = ["towers-1120".to_string(), "pyramid-1240".to_string()])]
+        scenes: Vec<String>,
+    },
+    /// Box–box manifold cost: ours against parry3d's (feature `rapier-peer`).
+    Parry {
+        /// One JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Times our forward dynamics against Pinocchio's `aba` on the same models.
     Aba {
         /// One JSON object instead of a table.
@@ -148,6 +167,12 @@ pub fn run(cmd: PeersCmd) -> Result<()> {
             print!("{}", py.run(&args)?);
             std::fs::remove_dir_all(&dir).ok();
         }
+        PeersCmd::Rapier {
+            json,
+            steps,
+            scenes,
+        } => crate::rapier_peer::run(&scenes, steps, json)?,
+        PeersCmd::Parry { json } => crate::parry_peer::run(json)?,
         PeersCmd::Aba { json, py } => {
             py.check()?;
             let models = vec![chain(7), chain(30), chain(100), humanoid()];

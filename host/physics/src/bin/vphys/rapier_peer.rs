@@ -1,0 +1,184 @@
+//! `vphys peers rapier`: the same scenes in our engine and in rapier3d 0.36 (f32, one
+//! thread), back to back in one process, sleeping off and on.
+//!
+//! The scenes are translated body by body from the same [`SceneFile`]: unit boxes as
+//! `cuboid(0.5, 0.5, 0.5)` with density = mass / volume (1 kg), the ground as a fixed
+//! half-space with outward normal +z, friction 0.5 on every collider (rapier averages, we take
+//! the geometric mean: both 0.5), gravity (0, 0, −9.81), step 1/60 s. Sleeping off is
+//! `can_sleep(false)` on every rapier body and no `sleeping` effect on ours.
+
+use anyhow::Result;
+
+use crate::run::{load, stats, time_steps};
+
+/// One row of the comparison.
+#[derive(serde::Serialize)]
+pub struct Row {
+    scene: String,
+    sleeping: bool,
+    ours_ms: f64,
+    rapier_ms: f64,
+    ratio: f64,
+    ours_max_drift_m: f64,
+    rapier_max_drift_m: f64,
+}
+
+/// Largest displacement of a dynamic body from its start (m).
+fn max_drift(start: &[[f64; 3]], now: &[[f64; 3]]) -> f64 {
+    start
+        .iter()
+        .zip(now)
+        .map(|(a, b)| {
+            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+#[cfg(feature = "rapier-peer")]
+fn rapier_run(
+    s: &virtual_physics::scene::SceneFile,
+    sleeping: bool,
+    steps: u64,
+) -> Result<(f64, f64)> {
+    use anyhow::bail;
+    use rapier3d::prelude::*;
+    use virtual_physics::scene::{BodyKindDesc, ShapeDesc};
+
+    let mut w = PhysicsWorld {
+        gravity: Vector::new(
+            s.gravity[0] as Real,
+            s.gravity[1] as Real,
+            s.gravity[2] as Real,
+        ),
+        ..PhysicsWorld::default()
+    };
+    w.integration_parameters.dt = s.dt as Real;
+    let mut handles = Vec::new();
+    for (i, b) in s.bodies.iter().enumerate() {
+        if b.rotation != [0.0; 3] {
+            bail!("bodies[{i}]: the rapier peer supports unrotated bodies only");
+        }
+        let friction = b
+            .material
+            .as_ref()
+            .and_then(|m| s.materials.iter().find(|x| &x.name == m))
+            .map_or(0.5, |m| m.friction) as Real;
+        let p = Vector::new(
+            b.position[0] as Real,
+            b.position[1] as Real,
+            b.position[2] as Real,
+        );
+        let rb = match b.kind {
+            BodyKindDesc::Dynamic => RigidBodyBuilder::dynamic(),
+            BodyKindDesc::Kinematic => RigidBodyBuilder::kinematic_velocity_based(),
+            BodyKindDesc::Fixed => RigidBodyBuilder::fixed(),
+        }
+        .translation(p)
+        .can_sleep(sleeping);
+        let shape = b.shape.shape();
+        let volume = shape.volume();
+        let density = b.mass.map_or(b.density.unwrap_or(1.0), |m| m / volume) as Real;
+        let col = match b.shape {
+            ShapeDesc::Box { half_extents: h } => {
+                ColliderBuilder::cuboid(h[0] as Real, h[1] as Real, h[2] as Real)
+            }
+            ShapeDesc::Sphere { radius } => ColliderBuilder::ball(radius as Real),
+            ShapeDesc::HalfSpace { normal } => {
+                ColliderBuilder::halfspace(rapier3d::na::Unit::new_unchecked(
+                    Vector::new(normal[0] as Real, normal[1] as Real, normal[2] as Real)
+                        .normalize(),
+                ))
+            }
+            _ => bail!("bodies[{i}]: the rapier peer supports boxes, spheres and half-spaces"),
+        }
+        .friction(friction)
+        .density(if b.kind == BodyKindDesc::Dynamic {
+            density
+        } else {
+            1.0
+        });
+        let (h, _) = w.insert(rb, col);
+        if b.kind == BodyKindDesc::Dynamic {
+            handles.push(h);
+        }
+    }
+    let pos = |w: &PhysicsWorld| -> Vec<[f64; 3]> {
+        handles
+            .iter()
+            .map(|h| {
+                let t = w.bodies[*h].translation();
+                [t.x as f64, t.y as f64, t.z as f64]
+            })
+            .collect()
+    };
+    let start = pos(&w);
+    let mut t = Vec::with_capacity(steps as usize);
+    for _ in 0..steps {
+        let t0 = std::time::Instant::now();
+        w.step();
+        t.push(t0.elapsed().as_secs_f64() * 1e3);
+    }
+    Ok((stats(&t).0, max_drift(&start, &pos(&w))))
+}
+
+#[cfg(not(feature = "rapier-peer"))]
+fn rapier_run(_: &virtual_physics::scene::SceneFile, _: bool, _: u64) -> Result<(f64, f64)> {
+    eprintln!(
+        "vphys: built without rapier; rebuild with\n  cargo run -p virtual-physics --release \
+         --features rapier-peer --bin vphys -- peers rapier"
+    );
+    std::process::exit(2);
+}
+
+/// Runs the comparison and prints a table or `{"rows": [...]}`.
+pub fn run(scenes: &[String], steps: Option<u64>, json: bool) -> Result<()> {
+    let mut rows = Vec::new();
+    for name in scenes {
+        for sleeping in [false, true] {
+            let s = load(name, Some(sleeping))?;
+            let n = steps.or(s.steps).unwrap_or(600);
+            let mut w = s.build()?;
+            let dynamic: Vec<usize> = (0..w.bodies.len())
+                .filter(|&i| w.bodies.inv_mass[i] > 0.0)
+                .collect();
+            let snap = |w: &virtual_physics::pipeline::World| -> Vec<[f64; 3]> {
+                dynamic.iter().map(|&i| w.bodies.pos[i].into()).collect()
+            };
+            let start = snap(&w);
+            let ours = stats(&time_steps(&mut w, n, !json)?).0;
+            let ours_drift = max_drift(&start, &snap(&w));
+            let (rapier, rapier_drift) = rapier_run(&s, sleeping, n)?;
+            rows.push(Row {
+                scene: name.clone(),
+                sleeping,
+                ours_ms: ours,
+                rapier_ms: rapier,
+                ratio: ours / rapier,
+                ours_max_drift_m: ours_drift,
+                rapier_max_drift_m: rapier_drift,
+            });
+        }
+    }
+    if json {
+        println!("{}", serde_json::json!({ "rows": rows }));
+    } else {
+        println!("median ms per step, one thread; ours f64, rapier3d 0.36 f32; drift = largest move of a box (m)");
+        println!(
+            "{:<14} {:>8} {:>10} {:>10} {:>8} {:>14} {:>16}",
+            "scene", "sleeping", "ours ms", "rapier ms", "ratio", "ours drift m", "rapier drift m"
+        );
+        for r in &rows {
+            println!(
+                "{:<14} {:>8} {:>10.3} {:>10.3} {:>8.2} {:>14.4} {:>16.4}",
+                r.scene,
+                r.sleeping,
+                r.ours_ms,
+                r.rapier_ms,
+                r.ratio,
+                r.ours_max_drift_m,
+                r.rapier_max_drift_m
+            );
+        }
+    }
+    Ok(())
+}

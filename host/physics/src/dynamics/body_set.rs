@@ -1,0 +1,202 @@
+//! The rigid bodies of a world, stored as parallel arrays (structure of arrays) so that each
+//! stage streams only the fields it needs.
+//!
+//! Frames and units: `pos` is the centre of mass in world coordinates (m) and `rot` the world
+//! from body rotation (columns are the body axes): together the pose `T = (rot, pos)` of the
+//! body frame, whose origin is the centre of mass and whose axes are the principal axes.
+//! `vel` (m/s) and `omega` (rad/s) are the linear velocity of the centre of mass and the
+//! angular velocity, both in world coordinates; the body twist of part 1 is
+//! `V = (rotᵀ omega, rotᵀ vel)`.
+
+use crate::geometry::{Aabb, Shape, M3, V3};
+
+/// How a body moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BodyKind {
+    /// Moved by forces and contacts.
+    Dynamic,
+    /// Moved by its prescribed velocity only (infinite mass); pushes dynamic bodies.
+    Kinematic,
+    /// Never moves.
+    Fixed,
+}
+
+/// Surface properties of a body.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Coulomb friction coefficient (–).
+    pub friction: f64,
+    /// Restitution coefficient, 0 … 1 (–).
+    pub restitution: f64,
+    /// Rolling resistance coefficient: resisting torque = coefficient · radius · normal force (–).
+    pub rolling_resistance: f64,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            friction: 0.5,
+            restitution: 0.0,
+            rolling_resistance: 0.0,
+        }
+    }
+}
+
+/// Every body of a world, structure of arrays (index = body id).
+#[derive(Clone, Debug, Default)]
+pub struct BodySet {
+    /// Names (may be empty).
+    pub name: Vec<String>,
+    /// Kind.
+    pub kind: Vec<BodyKind>,
+    /// Shape, body frame.
+    pub shape: Vec<Shape>,
+    /// Material.
+    pub material: Vec<Material>,
+    /// Centre of mass, world (m).
+    pub pos: Vec<V3>,
+    /// World from body rotation.
+    pub rot: Vec<M3>,
+    /// Linear velocity of the centre of mass, world (m/s).
+    pub vel: Vec<V3>,
+    /// Angular velocity, world (rad/s).
+    pub omega: Vec<V3>,
+    /// Inverse mass (1/kg), 0 for kinematic and fixed bodies.
+    pub inv_mass: Vec<f64>,
+    /// Principal inertia, body axes (kg·m²).
+    pub inertia: Vec<V3>,
+    /// Inverse principal inertia (0 for kinematic and fixed bodies).
+    pub inv_inertia: Vec<V3>,
+    /// Inverse inertia in world axes, `R diag(inv_inertia) Rᵀ`, refreshed each step.
+    pub inv_inertia_world: Vec<M3>,
+    /// Whether the body is simulated this step (dynamic and not sleeping).
+    pub awake: Vec<bool>,
+    /// Time the body has been slow enough to sleep (s).
+    pub sleep_time: Vec<f64>,
+    /// World bounding box, grown by the contact margin (m).
+    pub aabb: Vec<Aabb>,
+    /// Position change during the current step (m, world), for the solver's separation update.
+    pub dp: Vec<V3>,
+    /// Rotation change during the current step, linearised (rad, world).
+    pub dtheta: Vec<V3>,
+    /// Applied external force (N, world), kept until changed.
+    pub force: Vec<V3>,
+    /// Applied external torque (N·m, world), kept until changed.
+    pub torque: Vec<V3>,
+}
+
+impl BodySet {
+    /// Number of bodies.
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+
+    /// Whether there are no bodies.
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+
+    /// Adds a body with mass `mass` (ignored unless dynamic); returns its index.
+    #[allow(clippy::too_many_arguments)]
+    pub fn push(
+        &mut self,
+        name: String,
+        kind: BodyKind,
+        shape: Shape,
+        material: Material,
+        mass: f64,
+        pos: V3,
+        rot: M3,
+        vel: V3,
+        omega: V3,
+    ) -> usize {
+        let dynamic = kind == BodyKind::Dynamic;
+        let inertia = if dynamic {
+            shape.principal_inertia(mass)
+        } else {
+            V3::zeros()
+        };
+        let inv = |x: f64| if x > 0.0 { 1.0 / x } else { 0.0 };
+        self.name.push(name);
+        self.kind.push(kind);
+        self.shape.push(shape);
+        self.material.push(material);
+        self.pos.push(pos);
+        self.rot.push(rot);
+        self.vel.push(vel);
+        self.omega.push(omega);
+        self.inv_mass.push(if dynamic { inv(mass) } else { 0.0 });
+        self.inertia.push(inertia);
+        self.inv_inertia
+            .push(V3::new(inv(inertia.x), inv(inertia.y), inv(inertia.z)));
+        self.inv_inertia_world.push(M3::zeros());
+        self.awake.push(dynamic);
+        self.sleep_time.push(0.0);
+        self.aabb.push(shape.aabb(&rot, &pos));
+        self.dp.push(V3::zeros());
+        self.dtheta.push(V3::zeros());
+        self.force.push(V3::zeros());
+        self.torque.push(V3::zeros());
+        self.len() - 1
+    }
+
+    /// Mass (kg), `∞` for kinematic and fixed bodies.
+    pub fn mass(&self, i: usize) -> f64 {
+        if self.inv_mass[i] > 0.0 {
+            1.0 / self.inv_mass[i]
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// Refreshes `inv_inertia_world` of the awake bodies.
+    pub fn update_world_inertia(&mut self) {
+        for i in 0..self.len() {
+            if self.awake[i] {
+                let r = &self.rot[i];
+                let d = self.inv_inertia[i];
+                let rd =
+                    M3::from_columns(&[r.column(0) * d.x, r.column(1) * d.y, r.column(2) * d.z]);
+                self.inv_inertia_world[i] = rd * r.transpose();
+            }
+        }
+    }
+
+    /// Kinetic energy `½ m v² + ½ ωᵀ I ω` of the dynamic bodies (J).
+    pub fn kinetic_energy(&self) -> f64 {
+        let mut e = 0.0;
+        for i in 0..self.len() {
+            if self.kind[i] == BodyKind::Dynamic {
+                let wl = self.rot[i].tr_mul(&self.omega[i]);
+                e += 0.5 * self.mass(i) * self.vel[i].norm_squared()
+                    + 0.5 * wl.dot(&self.inertia[i].component_mul(&wl));
+            }
+        }
+        e
+    }
+
+    /// Linear momentum of the dynamic bodies (kg·m/s, world).
+    pub fn linear_momentum(&self) -> V3 {
+        let mut p = V3::zeros();
+        for i in 0..self.len() {
+            if self.kind[i] == BodyKind::Dynamic {
+                p += self.vel[i] * self.mass(i);
+            }
+        }
+        p
+    }
+
+    /// Angular momentum of the dynamic bodies about the world origin (kg·m²/s, world).
+    pub fn angular_momentum(&self) -> V3 {
+        let mut l = V3::zeros();
+        for i in 0..self.len() {
+            if self.kind[i] == BodyKind::Dynamic {
+                let r = &self.rot[i];
+                let wl = r.tr_mul(&self.omega[i]);
+                l += r * self.inertia[i].component_mul(&wl)
+                    + self.pos[i].cross(&(self.vel[i] * self.mass(i)));
+            }
+        }
+        l
+    }
+}

@@ -1,0 +1,19 @@
+//! The constraint solver: a soft step in the manner of Box2D v3 and Rapier's small steps.
+//!
+//! Each step splits into `substeps`; each substep integrates velocities, warm-starts, solves
+//! the constraints with soft (spring-damper) position bias, integrates positions, then relaxes
+//! (solves again without bias so that the push-out does not stay as velocity). After the
+//! substeps a restitution pass applies bounce, and the accumulated impulses are stored in the
+//! manifolds for the next step's warm start.
+//!
+//! Jacobians and effective masses are computed once per step ([`ContactConstraint::prepare`]);
+//! the substeps update each contact's separation from the bodies' linearised motion
+//! (`dp + dθ × r`) instead of re-running collision.
+
+pub mod contact_constraint;
+pub mod joint_constraint;
+pub mod softness;
+
+pub use contact_constraint::{ContactConstraint, ContactSettings};
+pub use joint_constraint::{FreeJoint, FreeJointKind};
+pub use softness::Softness;

@@ -1,0 +1,86 @@
+//! Contact points and manifolds.
+
+use super::V3;
+
+/// Most points a manifold keeps (a face–face box contact reduces to 4).
+pub const MAX_MANIFOLD_POINTS: usize = 4;
+
+/// One contact point (world frame).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactPoint {
+    /// Midpoint between the two surfaces (m, world).
+    pub point: V3,
+    /// Signed distance along the normal, negative when overlapping (m).
+    pub separation: f64,
+    /// Anchor in body A's frame (m), used to match points across steps.
+    pub local_a: V3,
+    /// Accumulated normal impulse (N·s), carried over for warm starting.
+    pub normal_impulse: f64,
+    /// Accumulated tangent impulses along the manifold's two tangents (N·s).
+    pub tangent_impulse: [f64; 2],
+    /// Largest normal impulse applied in the last step (N·s): the contact's "hit" strength.
+    pub max_normal_impulse: f64,
+}
+
+/// The contact between two bodies: a shared normal and up to four points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Manifold {
+    /// Body A (index into the body set); the normal points from A to B.
+    pub a: u32,
+    /// Body B.
+    pub b: u32,
+    /// Unit normal, world frame, from A to B.
+    pub normal: V3,
+    /// Points (first `len` valid).
+    pub points: [ContactPoint; MAX_MANIFOLD_POINTS],
+    /// Number of valid points.
+    pub len: usize,
+    /// Accumulated rolling-resistance angular impulse (N·m·s, world), warm started.
+    pub rolling_impulse: V3,
+}
+
+impl Manifold {
+    /// An empty manifold between `a` and `b`.
+    pub fn new(a: u32, b: u32) -> Self {
+        Self {
+            a,
+            b,
+            normal: V3::z(),
+            points: [ContactPoint::default(); MAX_MANIFOLD_POINTS],
+            len: 0,
+            rolling_impulse: V3::zeros(),
+        }
+    }
+
+    /// The sorted pair key `a << 32 | b`.
+    #[inline]
+    pub fn key(&self) -> u64 {
+        ((self.a as u64) << 32) | self.b as u64
+    }
+
+    /// The valid points.
+    pub fn points(&self) -> &[ContactPoint] {
+        &self.points[..self.len]
+    }
+
+    /// Appends a point (ignored when full).
+    #[inline]
+    pub fn push(&mut self, point: V3, separation: f64) {
+        if self.len < MAX_MANIFOLD_POINTS {
+            self.points[self.len] = ContactPoint {
+                point,
+                separation,
+                ..Default::default()
+            };
+            self.len += 1;
+        }
+    }
+
+    /// Deepest separation of the valid points (m), `+∞` when empty.
+    pub fn min_separation(&self) -> f64 {
+        self.points()
+            .iter()
+            .map(|p| p.separation)
+            .fold(f64::INFINITY, f64::min)
+    }
+}

@@ -1,0 +1,123 @@
+//! Step counters: what the last step actually did, so tests can prove effect gating.
+
+/// A stage of the step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Gravity added to velocities.
+    Gravity,
+    /// Bounding boxes and the grid broad phase.
+    BroadPhase,
+    /// Contact manifolds.
+    NarrowPhase,
+    /// Contact constraint preparation and solve.
+    ContactSolve,
+    /// Joint constraint solve.
+    JointSolve,
+    /// The restitution pass.
+    Restitution,
+    /// Rolling resistance rows inside the contact solve.
+    RollingResistance,
+    /// Continuous collision (velocity-swept margins).
+    ContinuousCollision,
+    /// Gyroscopic term.
+    Gyroscopic,
+    /// Velocity damping.
+    Damping,
+    /// Free-body position integration.
+    Integrate,
+    /// Articulated trees (ABA).
+    Articulated,
+    /// Islands and sleeping.
+    Islands,
+}
+
+impl Stage {
+    /// All stages.
+    pub const ALL: [Stage; 13] = [
+        Stage::Gravity,
+        Stage::BroadPhase,
+        Stage::NarrowPhase,
+        Stage::ContactSolve,
+        Stage::JointSolve,
+        Stage::Restitution,
+        Stage::RollingResistance,
+        Stage::ContinuousCollision,
+        Stage::Gyroscopic,
+        Stage::Damping,
+        Stage::Integrate,
+        Stage::Articulated,
+        Stage::Islands,
+    ];
+
+    /// Short name (for JSON output).
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Gravity => "gravity",
+            Stage::BroadPhase => "broad_phase",
+            Stage::NarrowPhase => "narrow_phase",
+            Stage::ContactSolve => "contact_solve",
+            Stage::JointSolve => "joint_solve",
+            Stage::Restitution => "restitution",
+            Stage::RollingResistance => "rolling_resistance",
+            Stage::ContinuousCollision => "continuous_collision",
+            Stage::Gyroscopic => "gyroscopic",
+            Stage::Damping => "damping",
+            Stage::Integrate => "integrate",
+            Stage::Articulated => "articulated",
+            Stage::Islands => "islands",
+        }
+    }
+}
+
+/// Counters of the last step (reset at the start of each step).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StepCounters {
+    stages: u32,
+    /// Box overlap tests in the broad phase.
+    pub broad_phase_tests: usize,
+    /// Candidate pairs from the broad phase.
+    pub broad_phase_pairs: usize,
+    /// Pairs given to a narrow-phase routine.
+    pub pairs_tested: usize,
+    /// Manifolds with points.
+    pub manifolds: usize,
+    /// Contact points.
+    pub contacts: usize,
+    /// Pairs of shapes without a contact routine.
+    pub unsupported_pairs: usize,
+    /// Solver passes over the constraints (solve + relax, per substep).
+    pub solver_iterations: usize,
+    /// Substeps.
+    pub substeps: usize,
+    /// Contact points that received a restitution impulse check.
+    pub restitution_constraints: usize,
+    /// ABA calls.
+    pub articulated_solves: usize,
+    /// Bodies simulated (awake dynamic).
+    pub awake_bodies: usize,
+    /// Islands found (with sleeping on).
+    pub islands: usize,
+}
+
+impl StepCounters {
+    /// Marks a stage as run.
+    #[inline]
+    pub fn mark(&mut self, s: Stage) {
+        self.stages |= 1 << s as u32;
+    }
+
+    /// Whether stage `s` ran.
+    pub fn ran(&self, s: Stage) -> bool {
+        self.stages & (1 << s as u32) != 0
+    }
+
+    /// The stages that ran.
+    pub fn stages(&self) -> impl Iterator<Item = Stage> + '_ {
+        Stage::ALL.into_iter().filter(|s| self.ran(*s))
+    }
+
+    /// Clears everything.
+    pub fn reset(&mut self) {
+        *self = Self::default();
+    }
+}

@@ -1,0 +1,20 @@
+//! The step pipeline, assembled from the scene's declared effects.
+//!
+//! * [`effects`] — the effect set a scene declares.
+//! * [`counters`] — what the last step did (stages run, pairs tested, contacts, iterations).
+//! * [`integrator`] — the pluggable free-body position integrator (`T ← T·Exp(hV)` by default).
+//! * [`islands`] — contact/joint islands and sleeping.
+//! * [`articulated`] — articulated trees stepped by part 1's ABA.
+//! * [`world`] — the world and its step.
+
+pub mod articulated;
+pub mod counters;
+pub mod effects;
+pub mod integrator;
+pub mod islands;
+pub mod world;
+
+pub use counters::{Stage, StepCounters};
+pub use effects::{Effect, Effects};
+pub use integrator::{Integrator, LieGroupEuler};
+pub use world::{SolverSettings, World};

@@ -1,0 +1,220 @@
+//! The scene file format (JSON, serde). Unknown fields are errors.
+
+use serde::{Deserialize, Serialize};
+
+use crate::model::description::ModelDescription;
+use crate::pipeline::Effect;
+
+fn default_dt() -> f64 {
+    1.0 / 60.0
+}
+fn default_gravity() -> [f64; 3] {
+    [0.0, 0.0, -9.81]
+}
+fn default_friction() -> f64 {
+    0.5
+}
+
+/// A whole scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Name.
+    #[serde(default)]
+    pub name: String,
+    /// Step (s).
+    #[serde(default = "default_dt")]
+    pub dt: f64,
+    /// Default number of steps for `vphys run`.
+    #[serde(default)]
+    pub steps: Option<u64>,
+    /// Gravity (m/s², world); used with the `gravity` effect.
+    #[serde(default = "default_gravity")]
+    pub gravity: [f64; 3],
+    /// The declared effects: only these stages run.
+    pub effects: Vec<Effect>,
+    /// Solver settings.
+    #[serde(default)]
+    pub solver: SolverDesc,
+    /// Damping rates (with the `damping` effect).
+    #[serde(default)]
+    pub damping: DampingDesc,
+    /// Named materials.
+    #[serde(default)]
+    pub materials: Vec<MaterialDesc>,
+    /// Free bodies.
+    #[serde(default)]
+    pub bodies: Vec<BodyDesc>,
+    /// Joints between free bodies.
+    #[serde(default)]
+    pub joints: Vec<JointDesc>,
+    /// Articulated trees (part 1's model description).
+    #[serde(default)]
+    pub articulated: Vec<ArticulatedDesc>,
+}
+
+/// Solver settings.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverDesc {
+    /// Substeps per step (1 … 64).
+    pub substeps: i64,
+    /// Contact stiffness (Hz).
+    pub contact_hertz: f64,
+    /// Approach speed below which no bounce (m/s).
+    pub restitution_threshold: f64,
+}
+
+impl Default for SolverDesc {
+    fn default() -> Self {
+        Self {
+            substeps: 12,
+            contact_hertz: 120.0,
+            restitution_threshold: 0.5,
+        }
+    }
+}
+
+/// Damping rates (1/s).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DampingDesc {
+    /// Linear (1/s).
+    #[serde(default)]
+    pub linear: f64,
+    /// Angular (1/s).
+    #[serde(default)]
+    pub angular: f64,
+}
+
+/// A named material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialDesc {
+    /// Name, referenced by bodies.
+    pub name: String,
+    /// Coulomb friction (≥ 0). Pairs mix as `sqrt(μa μb)`.
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+    /// Restitution (0 … 1). Pairs take the larger.
+    #[serde(default)]
+    pub restitution: f64,
+    /// Rolling resistance (≥ 0, torque = coefficient · radius · normal force). Pairs take the larger.
+    #[serde(default)]
+    pub rolling_resistance: f64,
+}
+
+/// How a body moves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BodyKindDesc {
+    /// Forces and contacts move it.
+    #[default]
+    Dynamic,
+    /// Moves with its given velocity; infinite mass.
+    Kinematic,
+    /// Never moves.
+    Fixed,
+}
+
+/// A shape (body frame, centred on the body origin; capsule and cylinder along `z`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeDesc {
+    /// Box.
+    Box {
+        /// Half extents (m).
+        half_extents: [f64; 3],
+    },
+    /// Sphere.
+    Sphere {
+        /// Radius (m).
+        radius: f64,
+    },
+    /// Capsule.
+    Capsule {
+        /// Radius (m).
+        radius: f64,
+        /// Half length of the core segment (m).
+        half_height: f64,
+    },
+    /// Cylinder.
+    Cylinder {
+        /// Radius (m).
+        radius: f64,
+        /// Half height (m).
+        half_height: f64,
+    },
+    /// Half-space `{x : n·x ≤ 0}` in the body frame (fixed or kinematic bodies only).
+    HalfSpace {
+        /// Outward normal, body frame.
+        normal: [f64; 3],
+    },
+}
+
+/// A free body.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyDesc {
+    /// Name (unique when given; joints refer to bodies by name).
+    #[serde(default)]
+    pub name: String,
+    /// Shape.
+    pub shape: ShapeDesc,
+    /// Kind.
+    #[serde(default)]
+    pub kind: BodyKindDesc,
+    /// Mass (kg); give this or `density` for a dynamic body.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// Density (kg/m³).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
+    /// Centre position (m, world).
+    #[serde(default)]
+    pub position: [f64; 3],
+    /// Orientation as a rotation vector (axis × angle, rad).
+    #[serde(default)]
+    pub rotation: [f64; 3],
+    /// Linear velocity (m/s, world).
+    #[serde(default)]
+    pub velocity: [f64; 3],
+    /// Angular velocity (rad/s, world).
+    #[serde(default)]
+    pub angular_velocity: [f64; 3],
+    /// Material name (default material: friction 0.5, no restitution or rolling resistance).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+}
+
+/// A joint between two free bodies.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointDesc {
+    /// `ball`, `revolute` or `fixed`.
+    #[serde(rename = "type")]
+    pub kind: String,
+    /// First body (name).
+    pub body1: String,
+    /// Second body (name).
+    pub body2: String,
+    /// Anchor (m, world, at the initial poses).
+    pub anchor: [f64; 3],
+    /// Hinge axis (world, revolute only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis: Option<[f64; 3]>,
+}
+
+/// An articulated tree and its initial state.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ArticulatedDesc {
+    /// Part 1's model description (its `gravity` is replaced by the scene's).
+    pub model: ModelDescription,
+    /// Initial configuration (default: neutral).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub q: Option<Vec<f64>>,
+    /// Initial velocity (default: zero).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub qd: Option<Vec<f64>>,
+}

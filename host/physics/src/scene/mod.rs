@@ -1,0 +1,22 @@
+//! Scenes as data: a JSON file format (serde), its validation (every problem reported with
+//! its location, never a panic), the built-in scenes, and building a [`World`] from a scene.
+//!
+//! See the crate README for the format with an example. Frames: `z` up by convention
+//! (gravity defaults to `[0, 0, -9.81]`), positions of body centres (= centres of mass) in
+//! world coordinates (m), `rotation` a rotation vector (axis × angle, rad), velocities in world
+//! coordinates (m/s, rad/s).
+
+mod build;
+pub mod builtin;
+mod error;
+mod format;
+mod validate;
+
+pub use error::{Problem, SceneError};
+pub use format::{
+    ArticulatedDesc, BodyDesc, BodyKindDesc, DampingDesc, JointDesc, MaterialDesc, SceneFile,
+    ShapeDesc, SolverDesc,
+};
+
+#[allow(unused_imports)]
+use crate::pipeline::World;

@@ -1,0 +1,281 @@
+//! Narrow and broad phase: manifolds of the shape pairs, and the grid broad phase against a
+//! brute-force pair search.
+
+use nalgebra::Matrix3;
+use virtual_physics::algebra::exp_so3;
+use virtual_physics::dynamics::{BodyKind, BodySet, Material};
+use virtual_physics::geometry::narrow_phase::collide;
+use virtual_physics::geometry::{BroadPhase, Manifold, Shape, V3};
+
+fn cube(h: f64) -> Shape {
+    Shape::Cuboid {
+        half: V3::repeat(h),
+    }
+}
+
+fn contact(sa: Shape, ra: Matrix3<f64>, pa: V3, sb: Shape, rb: Matrix3<f64>, pb: V3) -> Manifold {
+    let mut m = Manifold::new(0, 1);
+    let hit = collide(&sa, &ra, &pa, &sb, &rb, &pb, 0.0, &mut m).expect("supported pair");
+    assert_eq!(hit, m.len > 0);
+    m
+}
+
+#[test]
+fn aligned_boxes_give_four_corner_points() {
+    let i = Matrix3::identity();
+    let m = contact(
+        cube(0.5),
+        i,
+        V3::zeros(),
+        cube(0.5),
+        i,
+        V3::new(0.1, 0.0, 0.99),
+    );
+    assert_eq!(m.len, 4);
+    assert!((m.normal - V3::z()).norm() < 1e-12);
+    for p in m.points() {
+        assert!((p.separation + 0.01).abs() < 1e-12);
+        assert!((p.point.z - 0.495).abs() < 1e-12);
+        assert!(p.point.x >= -0.4 - 1e-12 && p.point.x <= 0.5 + 1e-12);
+    }
+}
+
+#[test]
+fn rotated_box_on_box_reduces_octagon_to_four_points() {
+    let i = Matrix3::identity();
+    let r = exp_so3(&V3::new(0.0, 0.0, std::f64::consts::FRAC_PI_4));
+    let m = contact(
+        cube(0.5),
+        i,
+        V3::zeros(),
+        cube(0.5),
+        r,
+        V3::new(0.0, 0.0, 0.98),
+    );
+    assert_eq!(m.len, 4);
+    assert!((m.normal - V3::z()).norm() < 1e-12);
+    // The 4 kept points span the overlap in both directions.
+    let xs: Vec<f64> = m.points().iter().map(|p| p.point.x).collect();
+    let ys: Vec<f64> = m.points().iter().map(|p| p.point.y).collect();
+    let span = |v: &[f64]| {
+        v.iter().cloned().fold(f64::MIN, f64::max) - v.iter().cloned().fold(f64::MAX, f64::min)
+    };
+    assert!(span(&xs) > 0.5 && span(&ys) > 0.5, "{xs:?} {ys:?}");
+}
+
+#[test]
+fn crossed_edges_give_one_point() {
+    let ra = exp_so3(&V3::new(std::f64::consts::FRAC_PI_4, 0.0, 0.0));
+    let rb = exp_so3(&V3::new(0.0, std::f64::consts::FRAC_PI_4, 0.0));
+    let d = 2.0 * 0.5 * std::f64::consts::SQRT_2 - 0.02;
+    let m = contact(
+        cube(0.5),
+        ra,
+        V3::zeros(),
+        cube(0.5),
+        rb,
+        V3::new(0.0, 0.0, d),
+    );
+    assert_eq!(m.len, 1);
+    assert!((m.normal - V3::z()).norm() < 1e-9, "{:?}", m.normal);
+    assert!((m.points[0].separation + 0.02).abs() < 1e-9);
+}
+
+#[test]
+fn separated_boxes_give_nothing() {
+    let i = Matrix3::identity();
+    let m = contact(
+        cube(0.5),
+        i,
+        V3::zeros(),
+        cube(0.5),
+        i,
+        V3::new(0.0, 1.2, 0.0),
+    );
+    assert_eq!(m.len, 0);
+}
+
+#[test]
+fn spheres_capsules_cylinders_and_planes() {
+    let i = Matrix3::identity();
+    let plane = Shape::HalfSpace { normal: V3::z() };
+    // Sphere on a box face and a box edge.
+    let s = Shape::Sphere { radius: 0.1 };
+    let m = contact(cube(0.5), i, V3::zeros(), s, i, V3::new(0.2, 0.0, 0.59));
+    assert!((m.normal - V3::z()).norm() < 1e-12 && (m.points[0].separation + 0.01).abs() < 1e-12);
+    let m = contact(cube(0.5), i, V3::zeros(), s, i, V3::new(0.55, 0.0, 0.55));
+    let n = V3::new(1.0, 0.0, 1.0).normalize();
+    assert!((m.normal - n).norm() < 1e-12);
+    // Capsule lying on a plane: both ends.
+    let cap = Shape::Capsule {
+        radius: 0.05,
+        half_height: 0.3,
+    };
+    let lying = exp_so3(&V3::new(0.0, std::f64::consts::FRAC_PI_2, 0.0));
+    let m = contact(plane, i, V3::zeros(), cap, lying, V3::new(0.0, 0.0, 0.049));
+    assert_eq!(m.len, 2);
+    // Cylinder standing on a plane: a rim, reduced to 4 points; lying: a line of points.
+    let cyl = Shape::Cylinder {
+        radius: 0.1,
+        half_height: 0.2,
+    };
+    let m = contact(plane, i, V3::zeros(), cyl, i, V3::new(0.0, 0.0, 0.199));
+    assert_eq!(m.len, 4);
+    let m = contact(plane, i, V3::zeros(), cyl, lying, V3::new(0.0, 0.0, 0.099));
+    assert!(m.len >= 2);
+    // Sphere against a cylinder side.
+    let m = contact(cyl, i, V3::zeros(), s, i, V3::new(0.19, 0.0, 0.0));
+    assert!((m.normal - V3::x()).norm() < 1e-12 && (m.points[0].separation + 0.01).abs() < 1e-12);
+    // Capsule against capsule, crossed.
+    let along_y = exp_so3(&V3::new(std::f64::consts::FRAC_PI_2, 0.0, 0.0));
+    let m = contact(
+        cap,
+        lying,
+        V3::zeros(),
+        cap,
+        along_y,
+        V3::new(0.0, 0.0, 0.09),
+    );
+    assert_eq!(m.len, 1);
+    assert!((m.points[0].separation + 0.01).abs() < 1e-12);
+}
+
+#[test]
+fn grid_broad_phase_equals_brute_force() {
+    let mut bodies = BodySet::default();
+    let mut seed = 12345u64;
+    let mut rnd = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    bodies.push(
+        "ground".into(),
+        BodyKind::Fixed,
+        Shape::HalfSpace { normal: V3::z() },
+        Material::default(),
+        0.0,
+        V3::zeros(),
+        Matrix3::identity(),
+        V3::zeros(),
+        V3::zeros(),
+    );
+    for _ in 0..300 {
+        let shape = if rnd() < 0.5 {
+            cube(0.1 + 0.6 * rnd())
+        } else {
+            Shape::Sphere {
+                radius: 0.05 + 0.5 * rnd(),
+            }
+        };
+        let p = V3::new(10.0 * rnd() - 5.0, 10.0 * rnd() - 5.0, 6.0 * rnd() - 0.5);
+        let r = exp_so3(&V3::new(rnd(), rnd(), rnd()));
+        bodies.push(
+            "".into(),
+            BodyKind::Dynamic,
+            shape,
+            Material::default(),
+            1.0,
+            p,
+            r,
+            V3::zeros(),
+            V3::zeros(),
+        );
+    }
+    let mut bp = BroadPhase::new(&bodies);
+    bp.update(&bodies, &[]);
+    let mut brute = Vec::new();
+    for a in 0..bodies.len() {
+        for b in a + 1..bodies.len() {
+            let hit = if a == 0 {
+                bodies.aabb[b].min.z <= 0.0
+            } else {
+                bodies.aabb[a].overlaps(&bodies.aabb[b])
+            };
+            if hit {
+                brute.push(((a as u64) << 32) | b as u64);
+            }
+        }
+    }
+    assert!(brute.len() > 50);
+    assert_eq!(bp.pairs, brute);
+}
+
+#[test]
+fn cylinders_against_boxes_capsules_and_cylinders_by_probing() {
+    use virtual_physics::pipeline::Effect;
+    use virtual_physics::scene::builtin::{ground, unit_cube};
+    use virtual_physics::scene::{BodyKindDesc, ShapeDesc};
+    // A standing cylinder dropped on a fixed box, a box dropped across a lying cylinder (a
+    // foosball man on a rod), a capsule and a cylinder on a lying cylinder: all come to rest on
+    // top, nothing passes through.
+    let mut s = virtual_physics::scene::builtin::towers(1, 1, 0);
+    s.effects = vec![Effect::Gravity, Effect::Contacts, Effect::Friction];
+    s.bodies = vec![ground(None)];
+    let mut table = unit_cube([0.0, 0.0, 0.5]);
+    table.kind = BodyKindDesc::Fixed;
+    table.mass = None;
+    s.bodies.push(table);
+    let mut cyl = unit_cube([0.0, 0.0, 1.25]);
+    cyl.shape = ShapeDesc::Cylinder {
+        radius: 0.1,
+        half_height: 0.2,
+    };
+    s.bodies.push(cyl);
+    let lying = [0.0, std::f64::consts::FRAC_PI_2, 0.0];
+    for (x, shape) in [
+        (
+            3.0,
+            ShapeDesc::Box {
+                half_extents: [0.05, 0.05, 0.05],
+            },
+        ),
+        (
+            6.0,
+            ShapeDesc::Capsule {
+                radius: 0.05,
+                half_height: 0.1,
+            },
+        ),
+        (
+            9.0,
+            ShapeDesc::Cylinder {
+                radius: 0.05,
+                half_height: 0.1,
+            },
+        ),
+    ] {
+        let mut rod = unit_cube([x, 0.0, 0.5]);
+        rod.kind = BodyKindDesc::Fixed;
+        rod.mass = None;
+        rod.rotation = lying;
+        rod.shape = ShapeDesc::Cylinder {
+            radius: 0.1,
+            half_height: 1.0,
+        };
+        s.bodies.push(rod);
+        let mut b = unit_cube([x, 0.0, 0.8]);
+        b.shape = shape;
+        b.mass = Some(0.2);
+        b.rotation = [std::f64::consts::FRAC_PI_2, 0.0, 0.0];
+        s.bodies.push(b);
+    }
+    let mut w = s.build().unwrap();
+    for _ in 0..120 {
+        w.step().unwrap();
+        assert_eq!(w.counters.unsupported_pairs, 0);
+    }
+    // Cylinder on the box top (z = 1): centre at 1.2.
+    assert!(
+        (w.bodies.pos[2].z - 1.2).abs() < 0.01,
+        "cylinder z {}",
+        w.bodies.pos[2].z
+    );
+    // Each small body rests on its rod (top of the rod at z = 0.6), not on the ground.
+    for k in [4, 6, 8] {
+        let z = w.bodies.pos[k].z;
+        assert!(z > 0.62 && z < 0.72, "body {k} z {z}");
+        assert!(w.bodies.vel[k].norm() < 0.05, "body {k} still moving");
+    }
+}
