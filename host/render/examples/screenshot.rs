@@ -6,9 +6,8 @@
 //! cargo run -p foosball-render --example screenshot -- --all DIR   # every screen
 //! ```
 
-use foosball_render::demo::{demo_snapshot, goal_snapshot};
+use foosball_render::demo::screen_snapshot;
 use foosball_render::{Renderer, Screen};
-use space_foosball::side::Side;
 use space_foosball::table::Table;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -63,11 +62,7 @@ fn run() -> Result<(), String> {
         (None, None) => return Err("give --out FILE.png or --all DIR".into()),
     };
     for (screen, path) in jobs {
-        let snap = match screen {
-            Screen::GoalCeremony => goal_snapshot(&table, time, [2, 1], Side::Home),
-            Screen::FinalResult => demo_snapshot(&table, time, [5, 3]),
-            _ => demo_snapshot(&table, time, [2, 1]),
-        };
+        let snap = screen_snapshot(&table, time, screen);
         let img = renderer
             .render_to_rgba(&snap, screen, width, height)
             .map_err(|e| e.to_string())?;

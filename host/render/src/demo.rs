@@ -1,6 +1,7 @@
 //! A lively demonstration snapshot (screenshots, benchmark, tests): rods swinging, the
 //! ball bouncing across the table, recent kicks and bounces. A pure function of time.
 
+use crate::scene::Screen;
 use crate::snapshot::{BallSnapshot, EventKind, FrameSnapshot, RenderEvent, RodPose};
 use space_foosball::side::Side;
 use space_foosball::table::Table;
@@ -65,4 +66,15 @@ pub fn goal_snapshot(table: &Table, t: f64, score: [u32; 2], scorer: Side) -> Fr
         speed: 4.0,
     });
     s
+}
+
+/// The demo scene each screen is pictured with (screenshots, README pictures) at time
+/// `t` (s): the goal ceremony just after a Home goal (2–1), the final result at 5–3,
+/// every other screen over the demo match at 2–1.
+pub fn screen_snapshot(table: &Table, t: f64, screen: Screen) -> FrameSnapshot {
+    match screen {
+        Screen::GoalCeremony => goal_snapshot(table, t, [2, 1], Side::Home),
+        Screen::FinalResult => demo_snapshot(table, t, [5, 3]),
+        _ => demo_snapshot(table, t, [2, 1]),
+    }
 }
