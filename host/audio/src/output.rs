@@ -16,7 +16,7 @@ pub const DISABLE_ENV: &str = "SPACE_FOOSBALL_AUDIO";
 /// Where sounds go: the default audio device, or nowhere.
 ///
 /// Fixed sounds (fanfare, menu) are synthesised once when the output opens; kicks and
-/// bounces, which depend on speed, when played (about 0.1 ms each). [`AudioOutput::play`]
+/// bounces, which depend on speed, when played (well under a millisecond each). [`AudioOutput::play`]
 /// never blocks on the device: it hands the samples to the audio thread over a channel.
 pub struct AudioOutput {
     sink: Sink,
