@@ -28,6 +28,22 @@ fn run(args: &[&str]) -> Output {
         .expect("run space-foosball")
 }
 
+/// Runs `space-foosball screenshot --screen SCREEN --out OUT --width W --height H`.
+fn screenshot(screen: &str, out: &std::path::Path, width: u32, height: u32) -> Output {
+    let (w, h) = (width.to_string(), height.to_string());
+    run(&[
+        "screenshot",
+        "--screen",
+        screen,
+        "--out",
+        out.to_str().unwrap(),
+        "--width",
+        &w,
+        "--height",
+        &h,
+    ])
+}
+
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
@@ -86,17 +102,7 @@ fn assert_not_uniform(name: &str, pixels: &[u8], bpp: usize) {
 fn screenshot_all_writes_a_valid_png_of_every_screen() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("shots");
-    let o = run(&[
-        "screenshot",
-        "--screen",
-        "all",
-        "--out",
-        out.to_str().unwrap(),
-        "--width",
-        "320",
-        "--height",
-        "180",
-    ]);
+    let o = screenshot("all", &out, 320, 180);
     if !adapter_present(&o) {
         return;
     }
@@ -130,17 +136,7 @@ fn screenshot_of_one_screen_has_the_asked_size_and_replaces_the_file() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("match.png");
     std::fs::write(&file, b"old content").unwrap();
-    let o = run(&[
-        "screenshot",
-        "--screen",
-        "match",
-        "--out",
-        file.to_str().unwrap(),
-        "--width",
-        "200",
-        "--height",
-        "150",
-    ]);
+    let o = screenshot("match", &file, 200, 150);
     if !adapter_present(&o) {
         return;
     }
