@@ -21,7 +21,11 @@
 //! * [`dynamics::solver`] — soft-step contact and joint constraints (friction cone,
 //!   restitution, rolling resistance, warm starting).
 //! * [`pipeline`] — the world and its step, built from the declared effects, with counters;
-//!   the pluggable free-body integrator `T ← T·Exp(hV)`; islands and sleeping.
+//!   five integrators selectable per scene; islands and sleeping.
+//!
+//! Part 3 — what accuracy costs: the integrators ([`pipeline::IntegratorKind`]), the reference
+//! problems of `vphys accuracy` ([`measure::accuracy`]) and the hard-case battery
+//! (`tests/hard_cases.rs`).
 //!
 //! ## Conventions (used everywhere)
 //! * A twist `se3 = (w, v)`: angular part first, then linear; a wrench `dse3 = (m, f)`:

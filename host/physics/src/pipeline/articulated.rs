@@ -1,11 +1,42 @@
-//! Articulated trees stepped with part 1's ABA: `q̈ = FD(q, q̇, τ)`, then semi-implicit Euler
-//! (`q̇ += h q̈`, then `q` from `q̇` on each joint's configuration space: additive for
-//! revolute, prismatic, cylindrical and universal joints; `R ← R·exp(h ω)` for ball joints;
-//! `T ← T·Exp(h V)` for free joints).
+//! Articulated trees stepped with part 1's ABA, `q̈ = FD(q, q̇, τ)`, by the world's integrator.
+//!
+//! Configurations move on each joint's configuration space through a chart at the step's
+//! start: `q = q₀ ⊞ θ` with `θ` of the velocity's size — additive for revolute, prismatic,
+//! cylindrical and universal joints; `R = R₀ exp(θ)` for ball joints (`q̇` = body angular
+//! velocity, so `θ̇ = J_r⁻¹(θ) ω`); rotation as a ball joint and `p = p₀ + θ_p` with
+//! `θ̇_p = R v` for free joints (the group `SO(3) × ℝ³`, the centre moving in the parent frame).
+//!
+//! | kind | tree step |
+//! |---|---|
+//! | `explicit-euler` | `q ← q ⊞ h q̇`, then `q̇ += h q̈(q₀, q̇₀)` |
+//! | `symplectic-euler`, `implicit-gyroscopic` | `q̇ += h q̈`, then `q ← q ⊞ h q̇` (the gyroscopic terms of a tree are inside ABA's bias forces; Catto's Newton step is a free-body scheme) |
+//! | `rkmk4` | RK4 on `(θ, q̇)` in the chart (Munthe-Kaas), 4 ABA calls |
+//! | `energy-momentum` | implicit midpoint `q̇₁ = q̇₀ + h q̈(q₀ ⊞ (h/2) q̇_m, q̇_m)`, `q ← q₀ ⊞ h q̇_m`, fixed-point iterations (symmetric, second order; exact energy is a free-body property) |
 
+use super::integrator::dexp_inv_right;
+use super::IntegratorKind;
 use crate::algebra::{exp_so3, log_so3, se3, Vec3, SE3};
 use crate::dynamics::{aba, DynamicsError, Workspace};
 use crate::model::ArticulatedTree;
+
+/// Fixed-point iterations of the tree's implicit midpoint step: stop when `|Δq̇|∞` is below
+/// this (rad/s or m/s) …
+const MIDPOINT_TOLERANCE: f64 = 1e-13;
+/// … or after this many ABA calls.
+const MIDPOINT_MAX_ITERATIONS: usize = 20;
+
+/// How a joint's coordinates move (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Chart {
+    /// `q = q₀ + θ`, `nq = nv`.
+    Additive(usize),
+    /// Ball joint: exponential coordinates.
+    Ball,
+    /// Free joint: `(r, p)`.
+    Free,
+    /// No coordinates.
+    Fixed,
+}
 
 /// One articulated tree with its state.
 pub struct ArticulatedSystem {
@@ -18,8 +49,21 @@ pub struct ArticulatedSystem {
     pub qd: Vec<f64>,
     /// Joint forces (held constant).
     pub tau: Vec<f64>,
+    /// The integrator (set by the world; see the module docs).
+    pub integrator: IntegratorKind,
     qdd: Vec<f64>,
-    joints: Vec<(String, usize, usize)>,
+    joints: Vec<(Chart, usize, usize)>,
+    // Scratch of the multi-stage integrators (no allocation per step).
+    q0: Vec<f64>,
+    qd0: Vec<f64>,
+    stage_qd: Vec<f64>,
+    theta: Vec<f64>,
+    k_theta: [Vec<f64>; 4],
+    k_qd: [Vec<f64>; 4],
+}
+
+fn v3(s: &[f64], o: usize) -> Vec3<f64> {
+    Vec3::new(s[o], s[o + 1], s[o + 2])
 }
 
 impl ArticulatedSystem {
@@ -27,65 +71,265 @@ impl ArticulatedSystem {
     pub fn new(tree: ArticulatedTree<f64>, q: Vec<f64>, qd: Vec<f64>) -> Self {
         let ws = Workspace::new(&tree);
         let nv = tree.nv();
+        let nq = tree.nq();
         let joints = tree
             .bodies()
             .iter()
-            .map(|b| (b.joint.describe().kind, b.q_offset, b.v_offset))
+            .map(|b| {
+                let chart = match b.joint.describe().kind.as_str() {
+                    "ball" => Chart::Ball,
+                    "free" => Chart::Free,
+                    "fixed" => Chart::Fixed,
+                    _ => Chart::Additive(b.nq()),
+                };
+                (chart, b.q_offset, b.v_offset)
+            })
             .collect();
+        let z = || vec![0.0; nv];
         Self {
             tree,
             ws,
             q,
             qd,
             tau: vec![0.0; nv],
+            integrator: IntegratorKind::default(),
             qdd: vec![0.0; nv],
             joints,
+            q0: vec![0.0; nq],
+            qd0: z(),
+            stage_qd: z(),
+            theta: z(),
+            k_theta: [z(), z(), z(), z()],
+            k_qd: [z(), z(), z(), z()],
         }
     }
 
-    /// One step of `h` seconds.
+    /// One step of `h` seconds with the selected integrator.
     pub fn step(&mut self, h: f64) -> Result<(), DynamicsError> {
+        match self.integrator {
+            IntegratorKind::SymplecticEuler | IntegratorKind::ImplicitGyroscopic => {
+                self.step_symplectic(h)
+            }
+            IntegratorKind::ExplicitEuler => self.step_explicit(h),
+            IntegratorKind::Rkmk4 => self.step_rkmk4(h),
+            IntegratorKind::EnergyMomentum => self.step_midpoint(h),
+        }
+    }
+
+    fn forward_dynamics(&mut self, q: &[f64], qd: &[f64]) -> Result<(), DynamicsError> {
         aba(
             &self.tree,
             &mut self.ws,
-            &self.q,
-            &self.qd,
+            q,
+            qd,
             &self.tau,
             None,
             &mut self.qdd,
-        )?;
+        )
+    }
+
+    fn step_symplectic(&mut self, h: f64) -> Result<(), DynamicsError> {
+        let (q, qd) = (std::mem::take(&mut self.q), std::mem::take(&mut self.qd));
+        let r = self.forward_dynamics(&q, &qd);
+        (self.q, self.qd) = (q, qd);
+        r?;
         for (v, a) in self.qd.iter_mut().zip(&self.qdd) {
             *v += h * a;
         }
-        for (kind, qo, vo) in &self.joints {
-            let (qo, vo) = (*qo, *vo);
-            let v3 = |s: &[f64], o: usize| Vec3::new(s[o], s[o + 1], s[o + 2]);
-            match kind.as_str() {
-                "ball" => {
+        self.advance_positions(h);
+        Ok(())
+    }
+
+    fn step_explicit(&mut self, h: f64) -> Result<(), DynamicsError> {
+        let (q, qd) = (std::mem::take(&mut self.q), std::mem::take(&mut self.qd));
+        let r = self.forward_dynamics(&q, &qd);
+        (self.q, self.qd) = (q, qd);
+        r?;
+        self.advance_positions(h);
+        for (v, a) in self.qd.iter_mut().zip(&self.qdd) {
+            *v += h * a;
+        }
+        Ok(())
+    }
+
+    /// `q` from `q̇` over `h` on each joint's space: additive, `R ← R·exp(h ω)` (ball),
+    /// `T ← T·Exp(h V)` (free).
+    fn advance_positions(&mut self, h: f64) {
+        for &(chart, qo, vo) in &self.joints {
+            match chart {
+                Chart::Ball => {
                     let r = exp_so3(&v3(&self.q, qo)) * exp_so3(&(v3(&self.qd, vo) * h));
                     self.q[qo..qo + 3].copy_from_slice(log_so3(&r).as_slice());
                 }
-                "free" => {
+                Chart::Free => {
                     let t = SE3::new(exp_so3(&v3(&self.q, qo)), v3(&self.q, qo + 3))
                         * SE3::exp(&se3::new(v3(&self.qd, vo) * h, v3(&self.qd, vo + 3) * h));
                     self.q[qo..qo + 3].copy_from_slice(log_so3(&t.r).as_slice());
                     self.q[qo + 3..qo + 6].copy_from_slice(t.p.as_slice());
                 }
-                "fixed" => {}
-                _ => {
-                    let n = self
-                        .tree
-                        .bodies()
-                        .iter()
-                        .find(|b| b.q_offset == qo)
-                        .map_or(0, |b| b.nq());
+                Chart::Fixed => {}
+                Chart::Additive(n) => {
                     for k in 0..n {
                         self.q[qo + k] += h * self.qd[vo + k];
                     }
                 }
             }
         }
+    }
+
+    /// RKMK4: classical RK4 on `(θ, q̇)` with `θ̇ = chart_rate(θ, q̇)`.
+    fn step_rkmk4(&mut self, h: f64) -> Result<(), DynamicsError> {
+        self.q0.copy_from_slice(&self.q);
+        self.qd0.copy_from_slice(&self.qd);
+        let nv = self.qd.len();
+        let c = [0.0, 0.5 * h, 0.5 * h, h];
+        for (s, &cs) in c.iter().enumerate() {
+            // Stage state: θ = c_s k_θ(s−1), q̇ = q̇₀ + c_s k_q̇(s−1).
+            for k in 0..nv {
+                let (kt, kq) = if s == 0 {
+                    (0.0, 0.0)
+                } else {
+                    (self.k_theta[s - 1][k], self.k_qd[s - 1][k])
+                };
+                self.theta[k] = cs * kt;
+                self.stage_qd[k] = self.qd0[k] + cs * kq;
+            }
+            self.chart_point_from_start();
+            let (q, sqd) = (
+                std::mem::take(&mut self.q),
+                std::mem::take(&mut self.stage_qd),
+            );
+            let r = self.forward_dynamics(&q, &sqd);
+            let mut kt = std::mem::take(&mut self.k_theta[s]);
+            self.chart_rate(&sqd, &mut kt);
+            self.k_theta[s] = kt;
+            (self.q, self.stage_qd) = (q, sqd);
+            r?;
+            self.k_qd[s].copy_from_slice(&self.qdd);
+        }
+        for k in 0..nv {
+            let comb = |a: &[Vec<f64>; 4]| a[0][k] + 2.0 * (a[1][k] + a[2][k]) + a[3][k];
+            self.theta[k] = h / 6.0 * comb(&self.k_theta);
+            self.qd[k] = self.qd0[k] + h / 6.0 * comb(&self.k_qd);
+        }
+        self.chart_point_from_start();
         Ok(())
+    }
+
+    /// Implicit midpoint by fixed-point iteration on `q̇_m`.
+    fn step_midpoint(&mut self, h: f64) -> Result<(), DynamicsError> {
+        self.q0.copy_from_slice(&self.q);
+        self.qd0.copy_from_slice(&self.qd);
+        // Predictor: q̇_m = q̇₀ + (h/2) q̈(q₀, q̇₀).
+        let (q, qd) = (std::mem::take(&mut self.q), std::mem::take(&mut self.qd));
+        let r = self.forward_dynamics(&q, &qd);
+        (self.q, self.qd) = (q, qd);
+        r?;
+        for k in 0..self.qd.len() {
+            self.stage_qd[k] = self.qd0[k] + 0.5 * h * self.qdd[k];
+        }
+        for _ in 0..MIDPOINT_MAX_ITERATIONS {
+            let mut rate = std::mem::take(&mut self.theta);
+            let sqd = std::mem::take(&mut self.stage_qd);
+            self.chart_rate_at_start(&sqd, 0.25 * h, &mut rate);
+            for t in rate.iter_mut() {
+                *t *= 0.5 * h;
+            }
+            self.theta = rate;
+            self.chart_point_from_start();
+            let q = std::mem::take(&mut self.q);
+            let r = self.forward_dynamics(&q, &sqd);
+            self.q = q;
+            self.stage_qd = sqd;
+            r?;
+            let mut change: f64 = 0.0;
+            for k in 0..self.qd.len() {
+                let new = self.qd0[k] + 0.5 * h * self.qdd[k];
+                change = change.max((new - self.stage_qd[k]).abs());
+                self.stage_qd[k] = new;
+            }
+            if change <= MIDPOINT_TOLERANCE {
+                break;
+            }
+        }
+        let sqd = std::mem::take(&mut self.stage_qd);
+        let mut rate = std::mem::take(&mut self.theta);
+        self.chart_rate_at_start(&sqd, 0.5 * h, &mut rate);
+        for t in rate.iter_mut() {
+            *t *= h;
+        }
+        self.theta = rate;
+        for ((v, m), v0) in self.qd.iter_mut().zip(&sqd).zip(&self.qd0) {
+            *v = 2.0 * m - v0;
+        }
+        self.stage_qd = sqd;
+        self.chart_point_from_start();
+        Ok(())
+    }
+
+    /// `q ← q₀ ⊞ θ`.
+    fn chart_point_from_start(&mut self) {
+        for &(chart, qo, vo) in &self.joints {
+            match chart {
+                Chart::Additive(n) => {
+                    for k in 0..n {
+                        self.q[qo + k] = self.q0[qo + k] + self.theta[vo + k];
+                    }
+                }
+                Chart::Ball => {
+                    let r = exp_so3(&v3(&self.q0, qo)) * exp_so3(&v3(&self.theta, vo));
+                    self.q[qo..qo + 3].copy_from_slice(log_so3(&r).as_slice());
+                }
+                Chart::Free => {
+                    let r = exp_so3(&v3(&self.q0, qo)) * exp_so3(&v3(&self.theta, vo));
+                    self.q[qo..qo + 3].copy_from_slice(log_so3(&r).as_slice());
+                    for k in 0..3 {
+                        self.q[qo + 3 + k] = self.q0[qo + 3 + k] + self.theta[vo + 3 + k];
+                    }
+                }
+                Chart::Fixed => {}
+            }
+        }
+    }
+
+    /// `θ̇` at the current chart point `θ` for velocity `qd` (see the module docs).
+    fn chart_rate(&self, qd: &[f64], out: &mut [f64]) {
+        for &(chart, qo, vo) in &self.joints {
+            match chart {
+                Chart::Additive(n) => out[vo..vo + n].copy_from_slice(&qd[vo..vo + n]),
+                Chart::Ball | Chart::Free => {
+                    let t = v3(&self.theta, vo);
+                    let w = dexp_inv_right(&t, &v3(qd, vo));
+                    out[vo..vo + 3].copy_from_slice(w.as_slice());
+                    if chart == Chart::Free {
+                        // ṗ = R v with R = R₀ exp(θ) = the stage rotation, already in q.
+                        let r = exp_so3(&v3(&self.q, qo));
+                        let pd = r * v3(qd, vo + 3);
+                        out[vo + 3..vo + 6].copy_from_slice(pd.as_slice());
+                    }
+                }
+                Chart::Fixed => {}
+            }
+        }
+    }
+
+    /// The chart increment per second for a constant velocity `qd` over a step from the
+    /// start: `qd` itself, except the free joint's translation `R₀ exp(t_mid ω) v` (the centre
+    /// velocity at the rotation reached after `t_mid` seconds: the midpoint of the step).
+    fn chart_rate_at_start(&self, qd: &[f64], t_mid: f64, out: &mut [f64]) {
+        for &(chart, qo, vo) in &self.joints {
+            match chart {
+                Chart::Additive(n) => out[vo..vo + n].copy_from_slice(&qd[vo..vo + n]),
+                Chart::Ball => out[vo..vo + 3].copy_from_slice(&qd[vo..vo + 3]),
+                Chart::Free => {
+                    out[vo..vo + 3].copy_from_slice(&qd[vo..vo + 3]);
+                    let r = exp_so3(&v3(&self.q0, qo)) * exp_so3(&(v3(qd, vo) * t_mid));
+                    let pd = r * v3(qd, vo + 3);
+                    out[vo + 3..vo + 6].copy_from_slice(pd.as_slice());
+                }
+                Chart::Fixed => {}
+            }
+        }
     }
 
     /// Kinetic plus potential energy (J), gravity from the model.

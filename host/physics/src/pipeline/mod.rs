@@ -2,7 +2,8 @@
 //!
 //! * [`effects`] — the effect set a scene declares.
 //! * [`counters`] — what the last step did (stages run, pairs tested, contacts, iterations).
-//! * [`integrator`] — the pluggable free-body position integrator (`T ← T·Exp(hV)` by default).
+//! * [`integrator`] — the five free-body integrators (semi-implicit Euler with `T ← T·Exp(hV)` by
+//!   default), selectable per scene.
 //! * [`islands`] — contact/joint islands and sleeping.
 //! * [`articulated`] — articulated trees stepped by part 1's ABA.
 //! * [`world`] — the world and its step.
@@ -16,5 +17,5 @@ pub mod world;
 
 pub use counters::{Stage, StepCounters};
 pub use effects::{Effect, Effects};
-pub use integrator::{Integrator, LieGroupEuler};
+pub use integrator::{FreeForces, FreeIntegrator, IntegratorKind};
 pub use world::{SolverSettings, World};

@@ -3,7 +3,7 @@
 
 use super::articulated::ArticulatedSystem;
 use super::islands::Islands;
-use super::{Effect, Effects, Integrator, LieGroupEuler, Stage, StepCounters};
+use super::{Effect, Effects, FreeForces, FreeIntegrator, IntegratorKind, Stage, StepCounters};
 use crate::dynamics::solver::{ContactConstraint, ContactSettings, FreeJoint, Softness};
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
 use crate::geometry::{BroadPhase, NarrowPhase, Shape, V3};
@@ -85,8 +85,9 @@ pub struct World {
     pub counters: StepCounters,
     /// Simulated time (s).
     pub time: f64,
-    /// The position integrator.
-    pub integrator: Box<dyn Integrator>,
+    /// The integrator of the free bodies (and, through [`World::set_integrator`], of the
+    /// articulated trees).
+    integrator: FreeIntegrator,
     broad: Option<BroadPhase>,
     narrow: Option<NarrowPhase>,
     islands: Option<Islands>,
@@ -119,11 +120,31 @@ impl World {
             articulated: Vec::new(),
             counters: StepCounters::default(),
             time: 0.0,
-            integrator: Box::new(LieGroupEuler),
+            integrator: FreeIntegrator::default(),
             constraints: Vec::new(),
             joint_pairs: Vec::new(),
             excluded_pairs: Vec::new(),
         }
+    }
+
+    /// The selected integrator.
+    pub fn integrator(&self) -> IntegratorKind {
+        self.integrator.kind
+    }
+
+    /// Selects the integrator of the free bodies and of every articulated tree (trees added
+    /// later take it too). See [`IntegratorKind`] for which kinds apply to trees.
+    pub fn set_integrator(&mut self, kind: IntegratorKind) {
+        self.integrator = FreeIntegrator::new(kind);
+        for a in &mut self.articulated {
+            a.integrator = kind;
+        }
+    }
+
+    /// Adds an articulated tree; it takes the world's integrator.
+    pub fn add_articulated(&mut self, mut system: ArticulatedSystem) {
+        system.integrator = self.integrator.kind;
+        self.articulated.push(system);
     }
 
     /// Adds a joint (contacts between its two bodies are disabled).
@@ -298,6 +319,16 @@ impl World {
         };
         let gyro = eff.has(Effect::Gyroscopic);
         let damping = eff.has(Effect::Damping);
+        let forces = FreeForces {
+            gravity,
+            gyroscopic: gyro,
+            damping: damping.then(|| {
+                (
+                    1.0 / (1.0 + h * self.settings.linear_damping),
+                    1.0 / (1.0 + h * self.settings.angular_damping),
+                )
+            }),
+        };
         if gyro {
             self.counters.mark(Stage::Gyroscopic);
         }
@@ -307,7 +338,8 @@ impl World {
         self.counters.mark(Stage::Integrate);
         let max_push = self.settings.max_push_velocity;
         for sub in 0..n_sub {
-            self.integrate_velocities(h, &gravity, gyro, damping);
+            self.integrator
+                .integrate_velocities(&mut self.bodies, h, &forces);
             for c in &self.constraints {
                 c.warm_start(&mut self.bodies);
             }
@@ -412,35 +444,6 @@ impl World {
         for c in &mut self.constraints {
             let s = if c.against_static { soft_static } else { soft };
             c.solve(&mut self.bodies, s, inv_h, use_bias, max_push, reverse);
-        }
-    }
-
-    fn integrate_velocities(&mut self, h: f64, g: &V3, gyro: bool, damping: bool) {
-        let b = &mut self.bodies;
-        let (ld, ad) = (
-            1.0 / (1.0 + h * self.settings.linear_damping),
-            1.0 / (1.0 + h * self.settings.angular_damping),
-        );
-        for i in 0..b.len() {
-            if !b.awake[i] {
-                continue;
-            }
-            let im = b.inv_mass[i];
-            b.vel[i] += (g + b.force[i] * im) * h;
-            let tq = b.torque[i];
-            if gyro || tq != V3::zeros() {
-                let r = b.rot[i];
-                let wl = r.tr_mul(&b.omega[i]);
-                let mut t = r.tr_mul(&tq);
-                if gyro {
-                    t -= wl.cross(&b.inertia[i].component_mul(&wl));
-                }
-                b.omega[i] += r * b.inv_inertia[i].component_mul(&t) * h;
-            }
-            if damping {
-                b.vel[i] *= ld;
-                b.omega[i] *= ad;
-            }
         }
     }
 

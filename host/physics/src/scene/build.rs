@@ -131,6 +131,7 @@ impl SceneFile {
             v(self.gravity),
             settings,
         );
+        world.set_integrator(self.integrator);
         for j in &self.joints {
             let a = world.body(&j.body1).unwrap_or(0);
             let b = world.body(&j.body2).unwrap_or(0);
@@ -156,7 +157,7 @@ impl SceneFile {
                 tree.set_gravity(g);
                 let q = a.q.clone().unwrap_or_else(|| tree.neutral_configuration());
                 let qd = a.qd.clone().unwrap_or_else(|| vec![0.0; tree.nv()]);
-                world.articulated.push(ArticulatedSystem::new(tree, q, qd));
+                world.add_articulated(ArticulatedSystem::new(tree, q, qd));
             }
         }
         Ok(world)

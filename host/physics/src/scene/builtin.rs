@@ -47,6 +47,7 @@ fn empty(name: &str, effects: Vec<Effect>) -> SceneFile {
         steps: Some(600),
         gravity: [0.0, 0.0, -9.81],
         effects,
+        integrator: Default::default(),
         solver: SolverDesc::default(),
         damping: Default::default(),
         materials: Vec::new(),

@@ -3,7 +3,11 @@
 use serde::{Deserialize, Serialize};
 
 use crate::model::description::ModelDescription;
-use crate::pipeline::Effect;
+use crate::pipeline::{Effect, IntegratorKind};
+
+fn is_default_integrator(k: &IntegratorKind) -> bool {
+    *k == IntegratorKind::default()
+}
 
 fn default_dt() -> f64 {
     1.0 / 60.0
@@ -33,6 +37,10 @@ pub struct SceneFile {
     pub gravity: [f64; 3],
     /// The declared effects: only these stages run.
     pub effects: Vec<Effect>,
+    /// The integrator of the free bodies and the articulated trees: `explicit-euler`,
+    /// `symplectic-euler` (default), `rkmk4`, `energy-momentum`, `implicit-gyroscopic`.
+    #[serde(default, skip_serializing_if = "is_default_integrator")]
+    pub integrator: IntegratorKind,
     /// Solver settings.
     #[serde(default)]
     pub solver: SolverDesc,

@@ -1,5 +1,6 @@
 //! `vphys`: the Virtual Physics command line — Table 3 and peer comparisons.
 
+mod accuracy;
 mod effects;
 mod parry_peer;
 mod peers;
@@ -66,6 +67,22 @@ enum Cmd {
         #[arg(long, default_value_t = 200)]
         steps: u64,
     },
+    /// What accuracy costs in time: reference problems × integrators × a sweep of steps;
+    /// writes the table (Markdown, JSON) and the chart (PNG, SVG).
+    Accuracy {
+        /// Reduced sweep (5 steps, a small tower scene); writes to a temporary folder by default.
+        #[arg(long)]
+        quick: bool,
+        /// Print `{"rows":[…],"step_cost":[…]}` on stdout instead of the summary.
+        #[arg(long)]
+        json: bool,
+        /// Output folder (default: the crate's `accuracy/`, or a temporary folder with --quick).
+        #[arg(long)]
+        out: Option<std::path::PathBuf>,
+        /// Only time the free-body step of each integrator (no sweep, nothing written).
+        #[arg(long)]
+        step_cost: bool,
+    },
     /// Comparisons with other engines (Pinocchio).
     Peers {
         #[command(subcommand)]
@@ -79,6 +96,18 @@ fn main() -> Result<()> {
         Cmd::Table3 { json, no_time } => table3::run(json, !no_time),
         Cmd::Peers { cmd } => peers::run(cmd),
         Cmd::Effects { json, steps } => effects::run(json, steps),
+        Cmd::Accuracy {
+            quick,
+            json,
+            out,
+            step_cost,
+        } => {
+            if step_cost {
+                accuracy::step_cost(json)
+            } else {
+                accuracy::run(quick, json, out)
+            }
+        }
         Cmd::Run {
             scene,
             steps,

@@ -1,0 +1,154 @@
+//! `vphys accuracy`: every reference problem × every integrator × a sweep of steps; writes the
+//! table (Markdown and JSON) and the error-vs-cost chart (PNG and SVG).
+
+mod chart;
+mod table;
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use virtual_physics::measure::accuracy::{
+    articulated, contact, free_body, free_body::StepCost, Problem, Row, QUICK_SWEEP, SWEEP,
+};
+use virtual_physics::pipeline::IntegratorKind;
+
+/// Solver substeps swept on the towers (full and quick).
+const TOWER_SUBSTEPS: [usize; 5] = [2, 4, 8, 12, 16];
+const TOWER_SUBSTEPS_QUICK: [usize; 3] = [4, 8, 12];
+
+/// Everything the report holds.
+#[derive(serde::Serialize)]
+pub struct Report {
+    /// One row per run.
+    pub rows: Vec<Row>,
+    /// Cost of one free-body step per integrator.
+    pub step_cost: Vec<StepCost>,
+    /// Whether this was the quick sweep.
+    pub quick: bool,
+    /// The towers scene.
+    pub towers_scene: String,
+}
+
+fn default_out(quick: bool) -> PathBuf {
+    if quick {
+        std::env::temp_dir().join("vphys-accuracy-quick")
+    } else {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("accuracy")
+    }
+}
+
+/// `vphys accuracy`.
+pub fn run(quick: bool, json: bool, out: Option<PathBuf>) -> Result<()> {
+    let out = out.unwrap_or_else(|| default_out(quick));
+    let report = measure(quick)?;
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    let text = serde_json::to_string_pretty(&report)?;
+    write_atomic(&out.join("accuracy.json"), text.as_bytes())?;
+    write_atomic(
+        &out.join("accuracy.md"),
+        table::markdown(&report).as_bytes(),
+    )?;
+    chart::draw(
+        &report,
+        &out.join("accuracy.png"),
+        &out.join("accuracy.svg"),
+    )?;
+    if json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        println!("{}", table::summary(&report));
+        println!("wrote {}/accuracy.{{md,json,png,svg}}", out.display());
+    }
+    Ok(())
+}
+
+/// `vphys accuracy --step-cost`: the free-body step of each integrator, timed alone.
+pub fn step_cost(json: bool) -> Result<()> {
+    let costs = free_body::step_cost(256, 400, 15);
+    if json {
+        println!("{}", serde_json::json!({ "step_cost": costs }));
+    } else {
+        println!("{}", table::step_costs(&costs));
+    }
+    Ok(())
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same folder and a rename.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let tmp = path.with_extension("tmp-write");
+    std::fs::write(&tmp, bytes).with_context(|| format!("writing {}", tmp.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| format!("renaming to {}", path.display()))?;
+    Ok(())
+}
+
+fn measure(quick: bool) -> Result<Report> {
+    let sweep: &[f64] = if quick { &QUICK_SWEEP } else { &SWEEP };
+    let substeps: &[usize] = if quick {
+        &TOWER_SUBSTEPS_QUICK
+    } else {
+        &TOWER_SUBSTEPS
+    };
+    let tower_steps = if quick { 300 } else { 600 };
+    let kinds = IntegratorKind::ALL;
+    let sweep_problems = [
+        Problem::TumblingBox,
+        Problem::HeavyTop,
+        Problem::DoublePendulum,
+        Problem::Chain10,
+        Problem::BallOnCloth,
+    ];
+    let total = (sweep_problems.len() * sweep.len() + substeps.len()) * kinds.len() + 4;
+    let pb = ProgressBar::new(total as u64);
+    pb.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} runs {elapsed_precise} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut rows = Vec::new();
+
+    pb.set_message("tumbling box: reference (RKMK4, 1/64000 s)");
+    let tumbling_ref = free_body::reference()?;
+    pb.inc(1);
+    for p in sweep_problems {
+        let reference = match p {
+            Problem::DoublePendulum | Problem::Chain10 => {
+                pb.set_message(format!("{}: reference (RKMK4, 1/64000 s)", p.name()));
+                let r = articulated::reference(p)?;
+                pb.inc(1);
+                r
+            }
+            _ => None,
+        };
+        for &dt in sweep {
+            for kind in kinds {
+                pb.set_message(format!("{} {} dt=1/{:.0}", p.name(), kind, 1.0 / dt));
+                let row = match p {
+                    Problem::TumblingBox => free_body::row(kind, dt, &tumbling_ref)?,
+                    Problem::HeavyTop | Problem::DoublePendulum | Problem::Chain10 => {
+                        articulated::row(p, kind, dt, reference.as_ref())?
+                    }
+                    _ => contact::ball_row(kind, dt)?,
+                };
+                rows.push(row);
+                pb.inc(1);
+            }
+        }
+    }
+    for &n in substeps {
+        for kind in kinds {
+            pb.set_message(format!("towers {kind} substeps={n}"));
+            rows.push(contact::towers_row(kind, n, tower_steps, quick)?);
+            pb.inc(1);
+        }
+    }
+    pb.set_message("free-body step cost");
+    let step_cost = free_body::step_cost(256, if quick { 100 } else { 400 }, 9);
+    pb.inc(1);
+    pb.finish_and_clear();
+    Ok(Report {
+        rows,
+        step_cost,
+        quick,
+        towers_scene: contact::towers_scene(quick).name,
+    })
+}
