@@ -3,11 +3,16 @@
 //!
 //! ```text
 //! space-foosball screenshot --screen <name|all> --out <file.png|DIR> [--width 1280] [--height 720]
-//! space-foosball play
+//! space-foosball play [--board auto|usb|emulated|socket[:PATH]] [--table standard] [--fullscreen]
+//! space-foosball play --headless [--seed N] [--goals N] [--table standard|paper|FILE] [--script FILE]
+//! space-foosball bench match [--json] [--steps N] [--table standard|paper|FILE]
 //! ```
 
+mod bench;
+mod headless;
 mod play;
 mod screenshot;
+mod window;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -28,8 +33,11 @@ enum Command {
     /// Render a screen offscreen to a PNG (any adapter, including Mesa's software
     /// Vulkan driver, lavapipe).
     Screenshot(screenshot::Args),
-    /// Play a match (needs a display; the match arrives with the physics match issue).
+    /// Play in a window: the rods (or, with no board, keyboard, mouse and gamepad on
+    /// the built-in emulated board) against the computer or a second player.
     Play(play::Args),
+    /// Measure the game: `bench match` (µs per physics step, input-to-rod latency).
+    Bench(bench::Args),
 }
 
 fn main() -> ExitCode {
@@ -37,6 +45,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Screenshot(args) => screenshot::run(&args),
         Command::Play(args) => play::run(&args),
+        Command::Bench(args) => bench::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

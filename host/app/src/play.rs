@@ -1,13 +1,18 @@
-//! `space-foosball play`. The match itself (physics, window, rods) arrives with the
-//! physics match issue; until then `play` says plainly what is and is not there and
-//! where to go instead, and exits non-zero. It never pretends to play.
+//! `space-foosball play`: the match in a window (see `window`). Without a display it
+//! says so plainly, points to headless play and screenshots, and exits non-zero.
 
 use anyhow::{bail, Result};
 
-/// Arguments of `space-foosball play` (none yet: board choice, players and
-/// `--headless` arrive with the match).
+/// Arguments of `space-foosball play`.
 #[derive(clap::Args, Debug)]
-pub struct Args {}
+pub struct Args {
+    /// The window's options.
+    #[command(flatten)]
+    pub window: crate::window::args::WindowArgs,
+    /// Headless play (`--headless`, `--goals`, `--script`; uses `--table`, `--seed`).
+    #[command(flatten)]
+    pub headless: crate::headless::HeadlessArgs,
+}
 
 /// The environment variables that name a display, in the order checked.
 const DISPLAY_VARS: [&str; 2] = ["WAYLAND_DISPLAY", "DISPLAY"];
@@ -23,21 +28,21 @@ pub fn display() -> Option<String> {
     })
 }
 
-/// What to run instead, shared by both messages.
-const ALTERNATIVES: &str = "Play without a window with `space-foosball play --headless` \
-(arrives with the match), or render the screens with \
-`space-foosball screenshot --screen all --out DIR`.";
+/// What to run instead when there is no display.
+const ALTERNATIVES: &str = "Play without a window with `space-foosball play --headless`, \
+or render the screens with `space-foosball screenshot --screen all --out DIR`.";
 
-/// Explains why there is no match to play here and fails.
-pub fn run(_args: &Args) -> Result<()> {
-    match display() {
-        None => bail!(
+/// Plays in a window; without a display, explains where to go instead and fails.
+pub fn run(args: &Args) -> Result<()> {
+    if args.headless.headless {
+        return crate::headless::run(&args.headless, &args.window.table, args.window.seed);
+    }
+    let options = args.window.options()?;
+    if display().is_none() {
+        bail!(
             "no display found (neither DISPLAY nor WAYLAND_DISPLAY is set), so no window \
              can open. {ALTERNATIVES}"
-        ),
-        Some(d) => bail!(
-            "display found ({d}), but the windowed match is not built yet: it arrives with \
-             the physics match issue. {ALTERNATIVES}"
-        ),
+        );
     }
+    crate::window::run(options)
 }

@@ -227,15 +227,44 @@ fn play_without_a_display_points_to_headless_play_and_screenshots() {
 }
 
 #[test]
-fn play_with_a_display_says_the_match_is_not_there_yet() {
+fn play_with_an_unreachable_display_fails_clearly() {
     let o = Command::new(BIN)
-        .arg("play")
+        // A display number no X server uses (xvfb-run -a takes :99 upwards); the exit
+        // limit keeps the test finite should one answer after all.
+        .args(["play", "--board", "emulated", "--exit-after-s", "3"])
         .env_remove("WAYLAND_DISPLAY")
-        .env("DISPLAY", ":99")
+        .env("DISPLAY", ":64999")
+        .env("SPACE_FOOSBALL_AUDIO", "off")
         .output()
         .unwrap();
     assert!(!o.status.success());
     let err = stderr(&o);
-    assert!(err.contains("DISPLAY=:99"), "{err}");
-    assert!(err.contains("physics match"), "{err}");
+    assert!(err.contains("could not connect to the display"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn play_arguments_are_checked_before_anything_opens() {
+    let o = run(&["play", "--board", "serial"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("socket:PATH"), "{}", stderr(&o));
+    let o = run(&["play", "--width", "10"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("--width 10 is not allowed"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run(&["play", "--demo-input", "1:hyperspace"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("unknown key"), "{}", stderr(&o));
+    let o = run(&[
+        "play",
+        "--exit-after-s",
+        "2",
+        "--capture-window",
+        "/nonexistent/x.png",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("no such directory"), "{}", stderr(&o));
 }

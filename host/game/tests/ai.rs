@@ -99,11 +99,13 @@ fn away_team_is_mirrored() {
     let in_front = ball(-0.225 - 0.03, 0.0, 0.0, 0.0);
     let d = desired_pose(&t, rod, &in_front, RodTarget::default());
     assert!(d.angle_rad > 0.0, "{d:?}");
-    // A ball in front but not in reach of the Home attack does not trigger the Away's.
+    // A ball just behind the Away attack does not make it shoot: its men lift (feet
+    // horizontal, +π/2 for Away) and stay there instead of spinning.
     let behind_away = ball(-0.225 + 0.03, 0.0, 0.0, 0.0);
-    assert_eq!(
-        desired_pose(&t, rod, &behind_away, RodTarget::default()).angle_rad,
-        0.0
+    let pose = settle(&t, rod, &behind_away, 300);
+    assert!(
+        (pose.angle_rad - std::f64::consts::FRAC_PI_2).abs() < 1e-9,
+        "{pose:?}"
     );
 }
 

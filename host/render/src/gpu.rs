@@ -1,14 +1,15 @@
 //! The wgpu renderer: device, pipelines and offscreen frames.
 
 use crate::image::RgbaImage;
-use crate::scene::{self, MeshInstance, Scene, Screen, Sprite, UiRect};
+use crate::scene::{self, Hud, MeshInstance, Scene, Screen, Sprite, UiRect};
 use crate::snapshot::FrameSnapshot;
 use crate::RenderError;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
-const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The colour format of offscreen pictures (a window uses its surface's format).
+pub(crate) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Largest offscreen image side, pixels.
 pub const MAX_SIDE: u32 = 8192;
@@ -59,9 +60,10 @@ pub struct AdapterSummary {
 
 /// An offscreen renderer on whatever adapter exists. Create once, render many frames.
 pub struct Renderer {
-    device: wgpu::Device,
-    queue: wgpu::Queue,
+    pub(crate) device: wgpu::Device,
+    pub(crate) queue: wgpu::Queue,
     adapter: AdapterSummary,
+    color_format: wgpu::TextureFormat,
     bind_layout: wgpu::BindGroupLayout,
     background: wgpu::RenderPipeline,
     mesh: wgpu::RenderPipeline,
@@ -77,45 +79,38 @@ impl Renderer {
     /// Opens the first adapter available (a hardware GPU, else a fallback/software one
     /// such as Mesa's lavapipe). No adapter at all is [`RenderError::NoAdapter`].
     pub fn new() -> Result<Renderer, RenderError> {
-        let instance = wgpu::Instance::new(&wgpu::InstanceDescriptor {
-            backends: wgpu::Backends::all(),
-            ..Default::default()
-        });
-        let mut opts = wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: None,
-        };
-        let adapter = match pollster::block_on(instance.request_adapter(&opts)) {
-            Ok(a) => a,
-            Err(first) => {
-                opts.force_fallback_adapter = true;
-                pollster::block_on(instance.request_adapter(&opts))
-                    .map_err(|_| RenderError::NoAdapter(first.to_string()))?
-            }
-        };
+        let instance = new_instance();
+        let (adapter, device, queue) = open_device(&instance, None)?;
+        Self::with_device(&adapter, device, queue, COLOR_FORMAT)
+    }
+
+    /// Builds the pipelines on an open device for colour targets of `color_format`.
+    pub(crate) fn with_device(
+        adapter: &wgpu::Adapter,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        color_format: wgpu::TextureFormat,
+    ) -> Result<Renderer, RenderError> {
         let info = adapter.get_info();
         let adapter_summary = AdapterSummary {
             name: info.name.clone(),
             backend: format!("{:?}", info.backend),
             device_type: format!("{:?}", info.device_type),
         };
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("foosball-render"),
-            required_features: wgpu::Features::empty(),
-            required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
-            ..Default::default()
-        }))
-        .map_err(|e| RenderError::Device(e.to_string()))?;
         device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let r = Self::build(device, queue, adapter_summary);
+        let r = Self::build(device, queue, adapter_summary, color_format);
         if let Some(e) = pollster::block_on(r.device.pop_error_scope()) {
             return Err(RenderError::Gpu(e.to_string()));
         }
         Ok(r)
     }
 
-    fn build(device: wgpu::Device, queue: wgpu::Queue, adapter: AdapterSummary) -> Renderer {
+    fn build(
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        adapter: AdapterSummary,
+        color_format: wgpu::TextureFormat,
+    ) -> Renderer {
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("scene.wgsl"),
             source: wgpu::ShaderSource::Wgsl(include_str!("shaders/scene.wgsl").into()),
@@ -198,7 +193,7 @@ impl Renderer {
                     entry_point: Some(fs),
                     compilation_options: Default::default(),
                     targets: &[Some(wgpu::ColorTargetState {
-                        format: COLOR_FORMAT,
+                        format: color_format,
                         blend,
                         write_mask: wgpu::ColorWrites::ALL,
                     })],
@@ -278,6 +273,7 @@ impl Renderer {
             device,
             queue,
             adapter,
+            color_format,
             bind_layout,
             background,
             mesh,
@@ -325,7 +321,7 @@ impl Renderer {
         };
         let color = tex(
             "color",
-            COLOR_FORMAT,
+            self.color_format,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
         let depth = tex(
@@ -333,8 +329,7 @@ impl Renderer {
             DEPTH_FORMAT,
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         );
-        let padded_row = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let padded_row = padded_row_bytes(width);
         let readback = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
             size: padded_row as u64 * height as u64,
@@ -360,7 +355,7 @@ impl Renderer {
         width: u32,
         height: u32,
     ) -> Result<(), RenderError> {
-        self.frame(snap, screen, width, height, false)
+        self.frame(snap, screen, &Hud::default(), width, height, false)
     }
 
     /// Renders a frame offscreen and reads it back as an RGBA image (sRGB bytes).
@@ -371,7 +366,19 @@ impl Renderer {
         width: u32,
         height: u32,
     ) -> Result<RgbaImage, RenderError> {
-        self.frame(snap, screen, width, height, true)?;
+        self.render_to_rgba_with_hud(snap, screen, &Hud::default(), width, height)
+    }
+
+    /// [`Renderer::render_to_rgba`] with the live text `hud` over the screen.
+    pub fn render_to_rgba_with_hud(
+        &mut self,
+        snap: &FrameSnapshot,
+        screen: Screen,
+        hud: &Hud,
+        width: u32,
+        height: u32,
+    ) -> Result<RgbaImage, RenderError> {
+        self.frame(snap, screen, hud, width, height, true)?;
         self.read_back()
     }
 
@@ -379,12 +386,13 @@ impl Renderer {
         &mut self,
         snap: &FrameSnapshot,
         screen: Screen,
+        hud: &Hud,
         width: u32,
         height: u32,
         copy: bool,
     ) -> Result<(), RenderError> {
         self.ensure_target(width, height)?;
-        let scene = scene::build(snap, screen, width, height);
+        let scene = scene::build_with_hud(snap, screen, hud, width, height);
         self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         self.encode(&scene, width, height, copy);
         if let Some(e) = pollster::block_on(self.device.pop_error_scope()) {
@@ -398,6 +406,38 @@ impl Renderer {
 
     fn encode(&self, scene: &Scene, width: u32, height: u32, copy: bool) {
         let Some(target) = &self.target else { return };
+        let color_view = target.color.create_view(&Default::default());
+        let depth_view = target.depth.create_view(&Default::default());
+        let mut enc = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("frame"),
+            });
+        self.encode_scene(&mut enc, scene, &color_view, &depth_view, width, height);
+        if copy {
+            copy_to_buffer(
+                &mut enc,
+                &target.color,
+                &target.readback,
+                target.padded_row,
+                width,
+                height,
+            );
+        }
+        self.queue.submit([enc.finish()]);
+    }
+
+    /// Records the render pass drawing `scene` into `color_view` (of this renderer's
+    /// colour format) with `depth_view` (depth format, same size `width × height`).
+    pub(crate) fn encode_scene(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        scene: &Scene,
+        color_view: &wgpu::TextureView,
+        depth_view: &wgpu::TextureView,
+        width: u32,
+        height: u32,
+    ) {
         let cam = &scene.camera;
         let light = glam::Vec3::new(-0.35, -0.55, 0.9).normalize();
         let globals = Globals {
@@ -437,16 +477,11 @@ impl Renderer {
         let particles = instances("particles", bytemuck::cast_slice(&scene.particles));
         let ui = instances("ui", bytemuck::cast_slice(&scene.ui));
 
-        let color_view = target.color.create_view(&Default::default());
-        let depth_view = target.depth.create_view(&Default::default());
-        let mut enc = d.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("frame"),
-        });
         {
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("scene"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &color_view,
+                    view: color_view,
                     depth_slice: None,
                     resolve_target: None,
                     ops: wgpu::Operations {
@@ -455,7 +490,7 @@ impl Renderer {
                     },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
+                    view: depth_view,
                     depth_ops: Some(wgpu::Operations {
                         load: wgpu::LoadOp::Clear(1.0),
                         store: wgpu::StoreOp::Discard,
@@ -492,30 +527,6 @@ impl Renderer {
                 }
             }
         }
-        if copy {
-            enc.copy_texture_to_buffer(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &target.color,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::TexelCopyBufferInfo {
-                    buffer: &target.readback,
-                    layout: wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(target.padded_row),
-                        rows_per_image: Some(height),
-                    },
-                },
-                wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-            );
-        }
-        self.queue.submit([enc.finish()]);
     }
 
     fn read_back(&self) -> Result<RgbaImage, RenderError> {
@@ -533,16 +544,122 @@ impl Renderer {
         rx.recv()
             .map_err(|e| RenderError::Gpu(e.to_string()))?
             .map_err(|e| RenderError::Gpu(e.to_string()))?;
-        let mut data = Vec::with_capacity((target.width * target.height * 4) as usize);
-        {
-            let mapped = slice.get_mapped_range();
-            for row in mapped.chunks(target.padded_row as usize) {
-                data.extend_from_slice(&row[..(target.width * 4) as usize]);
-            }
-        }
+        let data = unpad_rows(
+            &slice.get_mapped_range(),
+            target.padded_row,
+            target.width,
+            self.color_format,
+        );
         target.readback.unmap();
         Ok(RgbaImage::new(target.width, target.height, data))
     }
+
+    /// The colour format pictures are drawn in.
+    pub fn color_format(&self) -> wgpu::TextureFormat {
+        self.color_format
+    }
+}
+
+/// Copies `texture` (`width × height`, 4 bytes per pixel) into `buffer` with rows of
+/// `padded_row` bytes.
+pub(crate) fn copy_to_buffer(
+    enc: &mut wgpu::CommandEncoder,
+    texture: &wgpu::Texture,
+    buffer: &wgpu::Buffer,
+    padded_row: u32,
+    width: u32,
+    height: u32,
+) {
+    enc.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(padded_row),
+                rows_per_image: Some(height),
+            },
+        },
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+    );
+}
+
+/// Bytes per row of a `width`-pixel, 4-byte-per-pixel copy, padded as wgpu requires.
+pub(crate) fn padded_row_bytes(width: u32) -> u32 {
+    (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT
+}
+
+/// Tightly packed RGBA bytes from padded rows of `format` pixels (BGRA formats are
+/// swizzled to RGBA).
+pub(crate) fn unpad_rows(
+    mapped: &[u8],
+    padded_row: u32,
+    width: u32,
+    format: wgpu::TextureFormat,
+) -> Vec<u8> {
+    let bgra = matches!(
+        format,
+        wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
+    );
+    let row_bytes = (width * 4) as usize;
+    let mut data = Vec::with_capacity(row_bytes * (mapped.len() / padded_row.max(1) as usize));
+    for row in mapped.chunks(padded_row as usize) {
+        let row = &row[..row_bytes.min(row.len())];
+        if bgra {
+            for px in row.chunks_exact(4) {
+                data.extend_from_slice(&[px[2], px[1], px[0], px[3]]);
+            }
+        } else {
+            data.extend_from_slice(row);
+        }
+    }
+    data
+}
+
+/// A wgpu instance with every backend compiled in.
+pub(crate) fn new_instance() -> wgpu::Instance {
+    wgpu::Instance::new(&wgpu::InstanceDescriptor {
+        backends: wgpu::Backends::all(),
+        ..Default::default()
+    })
+}
+
+/// The first adapter that can draw (to `surface` when given: a hardware GPU, else a
+/// fallback/software one such as Mesa's lavapipe) and a device on it.
+pub(crate) fn open_device(
+    instance: &wgpu::Instance,
+    surface: Option<&wgpu::Surface<'_>>,
+) -> Result<(wgpu::Adapter, wgpu::Device, wgpu::Queue), RenderError> {
+    let mut opts = wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::HighPerformance,
+        force_fallback_adapter: false,
+        compatible_surface: surface,
+    };
+    let adapter = match pollster::block_on(instance.request_adapter(&opts)) {
+        Ok(a) => a,
+        Err(first) => {
+            opts.force_fallback_adapter = true;
+            pollster::block_on(instance.request_adapter(&opts))
+                .map_err(|_| RenderError::NoAdapter(first.to_string()))?
+        }
+    };
+    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("foosball-render"),
+        required_features: wgpu::Features::empty(),
+        required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+        ..Default::default()
+    }))
+    .map_err(|e| RenderError::Device(e.to_string()))?;
+    Ok((adapter, device, queue))
 }
 
 fn upload_mesh(device: &wgpu::Device, v: &[Vertex], i: &[u32]) -> Mesh {

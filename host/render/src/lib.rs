@@ -15,15 +15,17 @@ mod gpu;
 mod image;
 pub mod scene;
 pub mod snapshot;
+mod window;
 
 pub use camera::Camera;
 pub use gpu::{AdapterSummary, Renderer, MAX_SIDE};
 pub use image::RgbaImage;
-pub use scene::{ball_visual_scale, Screen};
+pub use scene::{ball_visual_scale, Hud, Screen};
 pub use snapshot::{
     BallSnapshot, BoxPose, EventKind, FrameSnapshot, ManSnapshot, RenderEvent, RodPose,
     TableGeometry,
 };
+pub use window::{PresentChoice, WindowRenderer};
 
 /// Why a picture could not be rendered.
 #[derive(Debug, thiserror::Error)]
@@ -50,6 +52,9 @@ pub enum RenderError {
     /// The GPU reported an error while rendering or reading back.
     #[error("GPU error: {0}")]
     Gpu(String),
+    /// The window's surface could not be created or configured.
+    #[error("could not draw to the window: {0}")]
+    Surface(String),
     /// Writing a PNG failed.
     #[error("could not write PNG {path}: {message}")]
     Png {

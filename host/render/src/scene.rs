@@ -150,8 +150,43 @@ pub struct Scene {
     pub ui: Vec<UiRect>,
 }
 
+/// Live text a running game lays over any screen: a heading under the screen's own
+/// title (the calibration step to do now, "PAUSED"), small lines at the bottom left
+/// (fit quality, the keys) and, on the selection screen, who plays each team.
+/// Upper-case letters, digits and `-!:./?%` are drawn; other characters are blank.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Hud {
+    /// Prominent lines (split at `\n`) centred from 36 % of the height, each shrunk to
+    /// fit the width; empty for none. On the calibration screen it replaces the
+    /// screen's generic instructions.
+    pub heading: String,
+    /// Small lines at the bottom left, top to bottom.
+    pub lines: Vec<String>,
+    /// On the selection screen: a note under each team's panel (`[home, away]`, e.g.
+    /// "PLAYER", "COMPUTER").
+    pub team_notes: Option<[String; 2]>,
+}
+
+impl Hud {
+    /// Whether there is nothing to draw.
+    pub fn is_empty(&self) -> bool {
+        self.heading.is_empty() && self.lines.is_empty() && self.team_notes.is_none()
+    }
+}
+
 /// Builds the scene of `snap` on `screen` for an image `width × height`.
 pub fn build(snap: &FrameSnapshot, screen: Screen, width: u32, height: u32) -> Scene {
+    build_with_hud(snap, screen, &Hud::default(), width, height)
+}
+
+/// Builds the scene of `snap` on `screen` with the live text `hud` on top.
+pub fn build_with_hud(
+    snap: &FrameSnapshot,
+    screen: Screen,
+    hud: &Hud,
+    width: u32,
+    height: u32,
+) -> Scene {
     let camera = Camera::for_table(&snap.table, width as f32 / height.max(1) as f32);
     let mut scene = Scene {
         camera,
@@ -166,8 +201,60 @@ pub fn build(snap: &FrameSnapshot, screen: Screen, width: u32, height: u32) -> S
     men_boxes(snap, &mut scene.boxes);
     ball(snap, &mut scene);
     particles(snap, &mut scene.particles);
-    overlay(snap, screen, width as f32, height as f32, &mut scene.ui);
+    overlay(
+        snap,
+        screen,
+        hud,
+        width as f32,
+        height as f32,
+        &mut scene.ui,
+    );
+    hud_overlay(hud, width as f32, height as f32, &mut scene.ui);
     scene
+}
+
+fn hud_overlay(hud: &Hud, w: f32, h: f32, out: &mut Vec<UiRect>) {
+    let mid = (h / 110.0).round().max(2.0);
+    let small = (h / 330.0).round().max(1.0);
+    let mut y = 0.36 * h;
+    for line in hud.heading.lines().filter(|l| !l.trim().is_empty()) {
+        let s = line.to_ascii_uppercase();
+        // Shrink to fit 94 % of the width.
+        let fit = (0.94 * w / font::text_width(&s, 1.0).max(1.0)).floor();
+        let cell = mid.min(fit).max(1.0);
+        let tw = font::text_width(&s, cell);
+        rect(
+            out,
+            [
+                0.5 * (w - tw) - 2.0 * cell,
+                y - 1.5 * cell,
+                0.5 * (w + tw) + 2.0 * cell,
+                y + (font::GLYPH_H as f32 + 1.5) * cell,
+            ],
+            [0.0, 0.0, 0.03, 0.7],
+        );
+        title(out, w, &s, 0.5 * w, y, cell, [1.0, 0.95, 0.4]);
+        y += (font::GLYPH_H as f32 + 4.0) * cell;
+    }
+    let line_h = (font::GLYPH_H as f32 + 3.0) * small;
+    let n = hud.lines.len() as f32;
+    let mut y = h - 1.5 * small - n * line_h;
+    for line in &hud.lines {
+        let s = line.to_ascii_uppercase();
+        let x = 1.5 * small + small;
+        rect(
+            out,
+            [
+                x - small,
+                y - small,
+                x + font::text_width(&s, small) + small,
+                y + (font::GLYPH_H as f32 + 1.0) * small,
+            ],
+            [0.0, 0.0, 0.03, 0.55],
+        );
+        text(out, &s, x, y, small, [0.85, 0.9, 1.0, 1.0]);
+        y += line_h;
+    }
 }
 
 fn team_color(side: Side) -> [f32; 3] {
@@ -542,8 +629,21 @@ fn text(out: &mut Vec<UiRect>, s: &str, x: f32, y: f32, cell: f32, color: [f32; 
     );
 }
 
-/// Text centred on `cx` with a darker drop shadow; returns its height.
-fn title(out: &mut Vec<UiRect>, s: &str, cx: f32, y: f32, cell: f32, color: [f32; 3]) -> f32 {
+/// Text centred on `cx` with a darker drop shadow, its cell shrunk (whole pixels, at
+/// least 1) so it stays inside an image `w` pixels wide; returns its height.
+fn title(
+    out: &mut Vec<UiRect>,
+    w: f32,
+    s: &str,
+    cx: f32,
+    y: f32,
+    cell: f32,
+    color: [f32; 3],
+) -> f32 {
+    let room = 2.0 * cx.min(w - cx) * 0.97;
+    let cell = cell
+        .min((room / font::text_width(s, 1.0).max(1.0)).floor())
+        .max(1.0);
     let x = (cx - 0.5 * font::text_width(s, cell)).round();
     let off = (0.35 * cell).max(1.0);
     text(out, s, x + off, y + off, cell, [0.0, 0.0, 0.0, 0.7]);
@@ -591,7 +691,7 @@ fn last_scorer(snap: &FrameSnapshot) -> Side {
         })
 }
 
-fn overlay(snap: &FrameSnapshot, screen: Screen, w: f32, h: f32, out: &mut Vec<UiRect>) {
+fn overlay(snap: &FrameSnapshot, screen: Screen, hud: &Hud, w: f32, h: f32, out: &mut Vec<UiRect>) {
     let cx = 0.5 * w;
     let big = (h / 40.0).round().max(3.0);
     let mid = (h / 110.0).round().max(2.0);
@@ -631,6 +731,7 @@ fn overlay(snap: &FrameSnapshot, screen: Screen, w: f32, h: f32, out: &mut Vec<U
             }
             title(
                 out,
+                w,
                 "PUSH A ROD TO START",
                 cx,
                 0.78 * h,
@@ -640,7 +741,7 @@ fn overlay(snap: &FrameSnapshot, screen: Screen, w: f32, h: f32, out: &mut Vec<U
         }
         Screen::CharacterSelect => {
             dim(out, 0.45);
-            title(out, "CHOOSE YOUR TEAM", cx, 0.08 * h, mid * 1.5, white);
+            title(out, w, "CHOOSE YOUR TEAM", cx, 0.08 * h, mid * 1.5, white);
             for (i, side) in Side::BOTH.into_iter().enumerate() {
                 let px = if i == 0 { 0.27 * w } else { 0.73 * w };
                 let (name, note) = character_name(snap.table.characters[i]);
@@ -656,12 +757,17 @@ fn overlay(snap: &FrameSnapshot, screen: Screen, w: f32, h: f32, out: &mut Vec<U
                     [px - 0.5 * pw, 0.3 * h, px + 0.5 * pw, 0.3 * h + mid],
                     rgba(team_color(side), 1.0),
                 );
-                title(out, label, px, 0.34 * h, mid * 1.5, team_color(side));
-                title(out, name, px, 0.45 * h, mid, white);
-                title(out, note, px, 0.54 * h, small, [0.7, 0.8, 0.9]);
+                title(out, w, label, px, 0.34 * h, mid * 1.5, team_color(side));
+                title(out, w, name, px, 0.45 * h, mid, white);
+                title(out, w, note, px, 0.54 * h, small, [0.7, 0.8, 0.9]);
+                if let Some(notes) = &hud.team_notes {
+                    let s = notes[i].to_ascii_uppercase();
+                    title(out, w, &s, px, 0.66 * h, mid, team_color(side));
+                }
             }
             title(
                 out,
+                w,
                 "SPIN A ROD TO CHOOSE - PUSH TO START",
                 cx,
                 0.86 * h,
@@ -672,27 +778,28 @@ fn overlay(snap: &FrameSnapshot, screen: Screen, w: f32, h: f32, out: &mut Vec<U
         Screen::GoalCeremony => {
             dim(out, 0.25);
             let side = last_scorer(snap);
-            title(out, "GOAL!", cx, 0.25 * h, big * 1.6, team_color(side));
+            title(out, w, "GOAL!", cx, 0.25 * h, big * 1.6, team_color(side));
             let who = match side {
                 Side::Home => "HOME SCORES",
                 Side::Away => "AWAY SCORES",
             };
-            title(out, who, cx, 0.56 * h, mid, white);
+            title(out, w, who, cx, 0.56 * h, mid, white);
             score_display(snap, w, h, out);
         }
         Screen::FinalResult => {
             dim(out, 0.6);
-            title(out, "FINAL SCORE", cx, 0.14 * h, mid * 1.5, white);
+            title(out, w, "FINAL SCORE", cx, 0.14 * h, mid * 1.5, white);
             let s = format!("{} - {}", snap.score[0], snap.score[1]);
-            title(out, &s, cx, 0.33 * h, big * 1.3, white);
+            title(out, w, &s, cx, 0.33 * h, big * 1.3, white);
             let (msg, c) = match snap.score[0].cmp(&snap.score[1]) {
                 std::cmp::Ordering::Greater => ("HOME WINS", HOME_COLOR),
                 std::cmp::Ordering::Less => ("AWAY WINS", AWAY_COLOR),
                 std::cmp::Ordering::Equal => ("DRAW", white),
             };
-            title(out, msg, cx, 0.65 * h, big, c);
+            title(out, w, msg, cx, 0.65 * h, big, c);
             title(
                 out,
+                w,
                 "PUSH A ROD TO PLAY AGAIN",
                 cx,
                 0.86 * h,
@@ -702,10 +809,11 @@ fn overlay(snap: &FrameSnapshot, screen: Screen, w: f32, h: f32, out: &mut Vec<U
         }
         Screen::BoardLost => {
             dim(out, 0.72);
-            title(out, "BOARD LOST", cx, 0.3 * h, big, [1.0, 0.35, 0.05]);
-            title(out, "PLAY IS PAUSED", cx, 0.55 * h, mid, white);
+            title(out, w, "BOARD LOST", cx, 0.3 * h, big, [1.0, 0.35, 0.05]);
+            title(out, w, "PLAY IS PAUSED", cx, 0.55 * h, mid, white);
             title(
                 out,
+                w,
                 "RECONNECT THE BOARD TO RESUME",
                 cx,
                 0.66 * h,
@@ -715,18 +823,24 @@ fn overlay(snap: &FrameSnapshot, screen: Screen, w: f32, h: f32, out: &mut Vec<U
         }
         Screen::Calibration => {
             dim(out, 0.55);
-            title(out, "CALIBRATION", cx, 0.12 * h, big, [0.3, 1.0, 0.6]);
+            title(out, w, "CALIBRATION", cx, 0.12 * h, big, [0.3, 1.0, 0.6]);
+            if !hud.heading.is_empty() {
+                // The live guidance replaces the generic instructions.
+                return;
+            }
             title(
                 out,
+                w,
                 "PUSH AND PULL EACH ROD ALL THE WAY",
                 cx,
                 0.45 * h,
                 mid,
                 white,
             );
-            title(out, "THEN SPIN IT BOTH WAYS", cx, 0.55 * h, mid, white);
+            title(out, w, "THEN SPIN IT BOTH WAYS", cx, 0.55 * h, mid, white);
             title(
                 out,
+                w,
                 "PUSH ROD 1 TO BEGIN",
                 cx,
                 0.8 * h,
@@ -805,5 +919,55 @@ mod tests {
         snap.score = [1, 8];
         let b = build(&snap, Screen::Match, 640, 360).ui.len();
         assert_ne!(a, b);
+    }
+
+    #[test]
+    fn hud_text_is_drawn_fits_the_width_and_replaces_calibration_instructions() {
+        let snap = FrameSnapshot::at_rest(&Table::standard());
+        let (w, h) = (640, 360);
+        let bare = build(&snap, Screen::Match, w, h).ui.len();
+        let hud = Hud {
+            heading: "A VERY LONG INSTRUCTION THAT WOULD NEVER FIT AT THE NORMAL SIZE\nLINE 2"
+                .into(),
+            lines: vec!["FIT: RMS 0.31 MM".into()],
+            team_notes: None,
+        };
+        let ui = build_with_hud(&snap, Screen::Match, &hud, w, h).ui;
+        assert!(ui.len() > bare);
+        for r in &ui[bare..] {
+            assert!(
+                r.rect[0] >= -1.0 && r.rect[2] <= w as f32 + 1.0,
+                "{:?}",
+                r.rect
+            );
+        }
+        // Calibration: the live heading replaces the generic instructions.
+        let generic = build(&snap, Screen::Calibration, w, h).ui.len();
+        let title_only = build_with_hud(
+            &snap,
+            Screen::Calibration,
+            &Hud {
+                heading: "X".into(),
+                ..Hud::default()
+            },
+            w,
+            h,
+        )
+        .ui
+        .len();
+        assert!(title_only < generic);
+        // Selection: a note per team.
+        let plain = build(&snap, Screen::CharacterSelect, w, h).ui.len();
+        let notes = Hud {
+            team_notes: Some(["PLAYER".into(), "COMPUTER".into()]),
+            ..Hud::default()
+        };
+        assert!(
+            build_with_hud(&snap, Screen::CharacterSelect, &notes, w, h)
+                .ui
+                .len()
+                > plain
+        );
+        assert!(Hud::default().is_empty() && !notes.is_empty());
     }
 }

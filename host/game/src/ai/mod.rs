@@ -9,12 +9,15 @@
 //!   `y`. Goalkeeper and defence rods, when the ball comes towards their goal from in
 //!   front of them, follow instead the `y` where the ball will cross the rod (its path
 //!   reflected off the side walls): they **block the shot line**.
-//! * **Angle**: if the ball is **in reach in front of a man** (`0 ≤ (x_ball − x_rod)·d ≤
-//!   reach` and laterally on his foot), the rod **spins to shoot** — towards the
+//! * **Angle**: if the ball is **in the strike zone of a man** (`(x_ball − x_rod)·d`
+//!   within [`STRIKE_ZONE`] of the reach, laterally on his foot, and not coming at the
+//!   rod faster than [`MAX_INCOMING_TO_SHOOT_M_PER_S`]), the rod **spins to shoot** — towards the
 //!   opponent's goal at the bottom of the swing, i.e. angular velocity `−d` about `+y`.
-//!   If the ball is behind the rod (between it and the own goal, beyond reach), the men
-//!   are **lifted** (feet horizontal) so the own rods behind can shoot through. Otherwise
-//!   they **rest** feet down (the nearest multiple of 2π, so turns are never unwound).
+//!   If the ball is behind the rod (between it and the own goal), the men are
+//!   **lifted** (feet horizontal, forward) so the own rods behind can shoot through and
+//!   no foot comes down on the ball. Otherwise they **rest** feet down (the nearest
+//!   multiple of 2π, so turns are never unwound — or the next one forward when the feet
+//!   are swung forward over a ball in reach, see [`REST_FORWARD_RAD`]).
 //! * The targets move at most [`AiLimits`] per step: the rods are driven bodies, so a
 //!   target reached within one step would mean an impossible velocity.
 //!
@@ -71,6 +74,31 @@ pub fn crossing_y(x: f64, y: f64, vx: f64, vy: f64, x_line: f64, y_limit: f64) -
     })
 }
 
+/// Where along `x` a ball must be for a rod to shoot, as fractions of its reach
+/// ([`Table::reach_x_m`]) ahead of the rod. Behind the rod axis the foot, swinging
+/// forward, comes down on top of the ball and pins it against the cloth; beyond about
+/// half the reach it meets the ball well past the bottom of its swing and lifts it (the
+/// contact normal tilts up by `asin(ahead / reach)`). So the computer shoots only
+/// between the two, and otherwise waits for the ball or leaves it to the next rod.
+pub const STRIKE_ZONE: [f64; 2] = [0.05, 0.85];
+
+/// A ball coming at the rod faster than this (m/s, towards the rod's own goal) is
+/// blocked with the feet down, not shot: shooting into a fast ball only pumps energy
+/// into it.
+pub const MAX_INCOMING_TO_SHOOT_M_PER_S: f64 = 1.0;
+
+/// Feet swung forward by more than this (rad) with the ball in front and in reach come
+/// to rest by carrying on over the top, not by swinging back down onto the ball.
+pub const REST_FORWARD_RAD: f64 = 0.2;
+
+/// The pose a rod rests in: same slide, feet down at the nearest whole turn.
+pub fn resting(current: RodTarget) -> RodTarget {
+    RodTarget {
+        slide_m: current.slide_m,
+        angle_rad: nearest_angle(current.angle_rad, 0.0),
+    }
+}
+
 /// The angle nearest `current` at which the rod's men point `phase` (rad, `0` = feet
 /// down): `phase + 2πk`.
 fn nearest_angle(current: f64, phase: f64) -> f64 {
@@ -79,6 +107,20 @@ fn nearest_angle(current: f64, phase: f64) -> f64 {
 
 /// The pose rod `rod` wants, ignoring speed limits.
 pub fn desired_pose(table: &Table, rod: usize, ball: &BallState, current: RodTarget) -> RodTarget {
+    desired_pose_aimed(table, rod, ball, current, 0.0)
+}
+
+/// [`desired_pose`] with an aim: while shooting, the shooter stands `aim_m` (m, along
+/// `+y`) beside the ball instead of square behind it, so the ball comes off the edge of
+/// his foot at an angle (towards `−y` for a positive aim). A few centimetres at most:
+/// beyond `foot half width + ball radius` the foot misses.
+pub fn desired_pose_aimed(
+    table: &Table,
+    rod: usize,
+    ball: &BallState,
+    current: RodTarget,
+    aim_m: f64,
+) -> RodTarget {
     let r = &table.rods[rod];
     let dir = r.team.attack_dir();
     let [bx, by, _] = ball.position;
@@ -101,18 +143,29 @@ pub fn desired_pose(table: &Table, rod: usize, ball: &BallState, current: RodTar
     // Shooting uses the man in front of the ball now (not the predicted crossing).
     let shooter = r.nearest_man(by, current.slide_m);
     let on_foot = shooter.miss_m <= 0.5 * character.foot_width_m + ball_r;
-    let in_reach = (-0.25 * reach..=reach).contains(&ahead);
+    let in_reach = (STRIKE_ZONE[0] * reach..=STRIKE_ZONE[1] * reach).contains(&ahead)
+        && -vx * dir < MAX_INCOMING_TO_SHOOT_M_PER_S;
+    let rest = nearest_angle(current.angle_rad, 0.0);
+    // How far the feet are swung forward (towards the opponent) from hanging down, rad.
+    let forward = -dir * (current.angle_rad - rest);
     let angle_rad = if in_reach && on_foot {
         // Keep spinning forward: a quarter turn ahead of where the rod is.
         current.angle_rad - dir * FRAC_PI_2
-    } else if ahead < -reach {
+    } else if ahead < 0.0 {
+        // Behind the rod: feet up, out of the way of the own rods' shots (and never
+        // brought down on top of the ball).
         nearest_angle(current.angle_rad, -dir * FRAC_PI_2)
+    } else if ahead <= reach && forward > REST_FORWARD_RAD {
+        // In front, in reach, feet swung forward: swinging back down would press the
+        // ball into the cloth; carry on over the top to the next turn instead.
+        rest - dir * TAU
     } else {
-        nearest_angle(current.angle_rad, 0.0)
+        rest
     };
     let slide_m = if in_reach && on_foot {
-        // Keep the shooter lined up with the ball while kicking.
-        shooter.slide_m
+        // Keep the shooter lined up with the ball (and the aim) while kicking.
+        let aim = if aim_m.is_finite() { aim_m } else { 0.0 };
+        r.nearest_man(by + aim, current.slide_m).slide_m
     } else {
         choice.slide_m
     };
@@ -135,6 +188,27 @@ pub fn step_towards(
             .clamp(-half_travel_m, half_travel_m),
         angle_rad: current.angle_rad + (desired.angle_rad - current.angle_rad).clamp(-da, da),
     }
+}
+
+/// [`targets`] with an aim per rod (see [`desired_pose_aimed`]; missing aims are 0).
+pub fn targets_aimed(
+    table: &Table,
+    rods: &[usize],
+    ball: &BallState,
+    current: &[RodTarget],
+    aims_m: &[f64],
+    limits: &AiLimits,
+    dt_s: f64,
+) -> Vec<RodTarget> {
+    rods.iter()
+        .zip(current)
+        .enumerate()
+        .map(|(k, (&rod, &now))| {
+            let aim = aims_m.get(k).copied().unwrap_or(0.0);
+            let want = desired_pose_aimed(table, rod, ball, now, aim);
+            step_towards(now, want, limits, table.rods[rod].half_travel_m(), dt_s)
+        })
+        .collect()
 }
 
 /// One step of the computer for `rods` (indices into the table), whose current poses

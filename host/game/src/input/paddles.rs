@@ -35,6 +35,16 @@ use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 use std::time::Duration;
 
+/// Longest pose prediction accepted, ms ([`PaddleTracker::set_prediction_ms`]).
+pub const MAX_PREDICTION_MS: u64 = 20;
+
+/// The prediction horizon that covers the mice's packet period (200 samples/s), ms.
+pub const MOUSE_PACKET_PREDICTION_MS: u64 = 5;
+
+/// The prediction lead that covers a packet's time on the PS/2 wire (3 bytes of 11
+/// bits at 10–16.7 kHz, 2–3.3 ms), ms.
+pub const PS2_WIRE_LEAD_MS: u64 = 2;
+
 /// Length of the velocity estimate's window, ms of report time.
 pub const VELOCITY_WINDOW_MS: u64 = 10;
 
@@ -87,6 +97,8 @@ struct RodTrack {
     bias: [f64; 2],
     /// `(time_ms, slide_m, angle_rad)` over the velocity window, paddle frame.
     history: VecDeque<(u64, f64, f64)>,
+    /// Report time of the latest report whose counts moved this rod, ms.
+    last_motion_ms: u64,
     state: RodState,
 }
 
@@ -99,6 +111,7 @@ impl RodTrack {
             counts: [0; 2],
             bias: [0.0; 2],
             history: VecDeque::with_capacity(VELOCITY_WINDOW_MS as usize + 2),
+            last_motion_ms: 0,
             state: RodState::default(),
         }
     }
@@ -154,6 +167,8 @@ pub struct PaddleTracker {
     time_ms: u64,
     lost_reports: u64,
     health: InputHealth,
+    prediction_ms: u64,
+    prediction_lead_ms: u64,
 }
 
 impl PaddleTracker {
@@ -167,6 +182,8 @@ impl PaddleTracker {
             time_ms: 0,
             lost_reports: 0,
             health: InputHealth::Waiting,
+            prediction_ms: 0,
+            prediction_lead_ms: 0,
         };
         for rod in &mut tracker.rods {
             let cal = tracker.calibration.paddles[rod.port];
@@ -203,6 +220,9 @@ impl PaddleTracker {
             }
             rod.counts[0] += i64::from(paddle.axial);
             rod.counts[1] += i64::from(paddle.rotation);
+            if paddle.axial != 0 || paddle.rotation != 0 {
+                rod.last_motion_ms = self.time_ms;
+            }
             let cal = self.calibration.paddles[rod.port];
             rod.update(&cal, self.time_ms);
         }
@@ -250,19 +270,62 @@ impl PaddleTracker {
         track.freeze();
     }
 
+    /// Predicts poses up to `ms` milliseconds ahead (0 = off, the default): see
+    /// [`PaddleTracker::inputs`].
+    pub fn set_prediction_ms(&mut self, ms: u64) {
+        self.prediction_ms = ms.min(MAX_PREDICTION_MS);
+    }
+
+    /// Adds a constant `ms` to the prediction of a moving rod (0 = none, the default):
+    /// the transport delay of the counts themselves (a PS/2 packet takes ~2.5 ms on the
+    /// wire after the mouse sampled the motion). Only with a prediction horizon.
+    pub fn set_prediction_lead_ms(&mut self, ms: u64) {
+        self.prediction_lead_ms = ms.min(MAX_PREDICTION_MS);
+    }
+
+    /// The prediction horizon, ms (0 = off).
+    pub fn prediction_ms(&self) -> u64 {
+        self.prediction_ms
+    }
+
     /// The newest state of every rod.
+    ///
+    /// With a prediction horizon ([`PaddleTracker::set_prediction_ms`]) the pose of a
+    /// moving rod is carried forward by its velocity over the time since its counts
+    /// last moved (at most the horizon): the mice send a packet every 5 ms, so between
+    /// packets the measured pose stands still while the rod moves on. At constant speed
+    /// this removes the packet delay from the input-to-rod latency; when the rod stops,
+    /// the pose overshoots by at most `velocity × horizon` for a few ms (the velocity
+    /// window then sees the stop). The slide stays within the travel.
     pub fn inputs(&self) -> RodInputs {
         RodInputs {
-            rods: self.rods.iter().map(|r| r.state).collect(),
+            rods: self.rods.iter().map(|r| self.predicted(r)).collect(),
             health: self.health,
             time_ms: self.time_ms,
             lost_reports: self.lost_reports,
         }
     }
 
-    /// The state of rod `rod`.
+    /// The state of rod `rod` (predicted as in [`PaddleTracker::inputs`]).
     pub fn rod(&self, rod: usize) -> Option<RodState> {
-        self.rods.get(rod).map(|r| r.state)
+        self.rods.get(rod).map(|r| self.predicted(r))
+    }
+
+    fn predicted(&self, r: &RodTrack) -> RodState {
+        let mut state = r.state;
+        if self.prediction_ms == 0 || self.health != InputHealth::Live || !state.present {
+            return state;
+        }
+        let age_ms = self
+            .time_ms
+            .saturating_sub(r.last_motion_ms)
+            .min(self.prediction_ms)
+            + self.prediction_lead_ms;
+        let age_s = age_ms as f64 * 1e-3;
+        state.slide_m = (state.slide_m + state.slide_velocity_m_per_s * age_s)
+            .clamp(-r.half_travel_m, r.half_travel_m);
+        state.angle_rad += state.angular_velocity_rad_per_s * age_s;
+        state
     }
 
     /// Whether input flows.

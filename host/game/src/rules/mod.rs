@@ -16,7 +16,9 @@
 //! * **Dead ball**: slow (below [`RulesConfig::slow_speed_m_per_s`]) and out of every
 //!   man's reach ([`Table::any_rod_can_reach`]) for [`RulesConfig::dead_ball_ms`], or
 //!   slow and within [`RulesConfig::stuck_radius_m`] of one place for
-//!   [`RulesConfig::stuck_ms`] (stuck, or held too long), is served again.
+//!   [`RulesConfig::stuck_ms`] (stuck, or held too long), is served again; so is a ball
+//!   that stays at one rod (nearest along `x`), however fast it moves, for
+//!   [`RulesConfig::possession_ms`] (possession limit; a ball rattling between two men).
 //! * **Out of play**: a non-finite state, or a ball outside the field that is not in a
 //!   goal, is served again.
 //! * **Match over** when a team reaches [`RulesConfig::goals_to_win`] (default 5).
@@ -105,6 +107,10 @@ pub struct RulesConfig {
     pub slow_speed_m_per_s: f64,
     /// "One place" for the stuck rule, m.
     pub stuck_radius_m: f64,
+    /// A ball that stays at one rod (nearest to the same rod along `x`), however fast,
+    /// this long is re-served as dead, ms: the possession limit of real tables, and the
+    /// end of a ball trapped rattling between two men.
+    pub possession_ms: u64,
     /// Pause after a goal before the next serve, ms.
     pub goal_pause_ms: u64,
     /// Pause before the kickoff and before re-serving a dead or out-of-play ball, ms.
@@ -128,6 +134,7 @@ impl Default for RulesConfig {
             stuck_ms: 10_000,
             slow_speed_m_per_s: 0.05,
             stuck_radius_m: 0.02,
+            possession_ms: 10_000,
             goal_pause_ms: 1_500,
             serve_pause_ms: 500,
             serve_speed_m_per_s: 0.3,
@@ -178,6 +185,8 @@ pub struct Rules {
     dead_since: Option<u64>,
     /// Since when, and where, the ball is slow in one place.
     stuck_anchor: Option<(u64, [f64; 3])>,
+    /// Since when the ball is at which rod (nearest along `x`).
+    possession: Option<(u64, usize)>,
 }
 
 impl Rules {
@@ -196,6 +205,7 @@ impl Rules {
             last_receiver: config.first_serve,
             dead_since: None,
             stuck_anchor: None,
+            possession: None,
         }
     }
 
@@ -259,6 +269,7 @@ impl Rules {
                     self.phase = Phase::InPlay;
                     self.dead_since = None;
                     self.stuck_anchor = None;
+                    self.possession = None;
                 }
             }
             Phase::InPlay => self.in_play(ball, contacts, &mut out),
@@ -312,7 +323,7 @@ impl Rules {
             self.reserve(ServeReason::OutOfPlay, self.config.serve_pause_ms);
             return;
         }
-        if self.dead_or_stuck(ball) {
+        if self.dead_or_stuck(ball) || self.held_too_long(ball) {
             self.reserve(ServeReason::DeadBall, self.config.serve_pause_ms);
         }
     }
@@ -350,6 +361,25 @@ impl Rules {
         let r = self.table.ball.radius_m();
         let beyond_line = x.abs() > 0.5 * f.length_m + r;
         beyond_line || y.abs() > 0.5 * f.width_m || z < -r || z > f.wall_height_m + 0.5
+    }
+
+    /// Whether the ball has been at the same rod for [`RulesConfig::possession_ms`].
+    fn held_too_long(&mut self, ball: &BallState) -> bool {
+        let x = ball.position[0];
+        let Some(rod) = (0..self.table.rods.len()).min_by(|&a, &b| {
+            (self.table.rods[a].x_m - x)
+                .abs()
+                .total_cmp(&(self.table.rods[b].x_m - x).abs())
+        }) else {
+            return false;
+        };
+        match self.possession {
+            Some((since, r)) if r == rod => self.time_ms - since >= self.config.possession_ms,
+            _ => {
+                self.possession = Some((self.time_ms, rod));
+                false
+            }
+        }
     }
 
     fn dead_or_stuck(&mut self, ball: &BallState) -> bool {

@@ -1,0 +1,440 @@
+//! The windowed game of `space-foosball play`: a winit window drawn by
+//! `foosball_render::WindowRenderer`, a [`session::Session`] (board, screens, match on
+//! its 1 kHz physics thread), sound, and the emulated board's keyboard, mouse and
+//! gamepad controls ([`controls`]) when no board is plugged in.
+//!
+//! * [`board`]: which board (USB, else the built-in emulated board; or a socket).
+//! * [`session`]: everything but the window; tests drive it directly.
+//! * [`flow`]: the screens driven by the rods.
+//! * [`calibrate`]: calibration mode.
+//! * [`controls`], [`gamepad`]: keyboard, mouse, gamepad → emulated rods.
+//! * [`script`]: scripted key presses (`--demo-input`) for unattended checks.
+
+pub mod args;
+pub mod board;
+pub mod calibrate;
+pub mod controls;
+pub mod flow;
+pub mod gamepad;
+pub mod script;
+pub mod session;
+
+use anyhow::{anyhow, Context, Result};
+use board::BoardChoice;
+use controls::{Controls, Key};
+use flow::Stage;
+use foosball_audio::AudioOutput;
+use foosball_render::{PresentChoice, WindowRenderer};
+use foosball_sim::motion::live::LiveHandle;
+use gamepad::Gamepads;
+use script::Script;
+use session::{FrameOut, Session, SessionOptions};
+use space_foosball::input::calibration::Calibration;
+use space_foosball::table::Table;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{DeviceEvent, DeviceId, ElementState, KeyEvent, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{CursorGrabMode, Fullscreen, Window, WindowId};
+
+/// How `play` runs its window.
+#[derive(Debug, Clone)]
+pub struct WindowOptions {
+    /// Which board.
+    pub board: BoardChoice,
+    /// The table.
+    pub table: Table,
+    /// Window size, pixels.
+    pub size: (u32, u32),
+    /// Borderless fullscreen.
+    pub fullscreen: bool,
+    /// Vsync (FIFO) or low latency (mailbox where offered).
+    pub present: PresentChoice,
+    /// Seed of the first match.
+    pub seed: u64,
+    /// The calibration file (loaded at start; calibration mode saves it).
+    pub calibration_path: Option<PathBuf>,
+    /// Start in calibration mode.
+    pub calibrate: bool,
+    /// Quit after this many seconds (unattended checks).
+    pub exit_after_s: Option<f64>,
+    /// Write the last presented frame here as PNG when quitting.
+    pub capture_window: Option<PathBuf>,
+    /// Scripted key presses.
+    pub script: Script,
+}
+
+/// Key hints for the emulated board, shown at the bottom of the screens.
+fn key_hints() -> Vec<String> {
+    vec![
+        "1-4 ROD  MOUSE/W/S SLIDE  MOUSE/A/D/WHEEL SPIN  SPACE KICK".into(),
+        "ENTER PUSH  TAB OTHER TEAM  C CALIBRATE  ESC PAUSE/QUIT".into(),
+    ]
+}
+
+/// Opens the window and plays until the window closes or the player quits.
+pub fn run(options: WindowOptions) -> Result<()> {
+    let event_loop = EventLoop::new().context("could not connect to the display")?;
+    event_loop.set_control_flow(ControlFlow::Poll);
+    let mut app = App::new(options)?;
+    event_loop
+        .run_app(&mut app)
+        .context("the window's event loop failed")?;
+    if let Some(e) = app.error.take() {
+        return Err(e);
+    }
+    app.report();
+    Ok(())
+}
+
+struct App {
+    options: WindowOptions,
+    window: Option<Arc<Window>>,
+    renderer: Option<WindowRenderer>,
+    session: Session,
+    live: Option<LiveHandle>,
+    controls: Controls,
+    pads: Gamepads,
+    audio: AudioOutput,
+    error: Option<anyhow::Error>,
+    started: Instant,
+    last_tick: Instant,
+    frames: u64,
+    last: Option<FrameOut>,
+    capture_written: bool,
+}
+
+impl App {
+    fn new(options: WindowOptions) -> Result<App> {
+        let opened = board::open(&options.board)?;
+        if let Some(n) = &opened.notice {
+            eprintln!("space-foosball: {n}");
+        }
+        let calibration = match &options.calibration_path {
+            Some(path) => {
+                let (c, warning) = Calibration::load_or_default(path);
+                if let Some(w) = warning {
+                    eprintln!("space-foosball: calibration not used ({w}); using the defaults");
+                }
+                c
+            }
+            None => Calibration::default(),
+        };
+        let key_hints = if opened.live.is_some() {
+            key_hints()
+        } else {
+            vec!["ESC PAUSE/QUIT - C CALIBRATE".into()]
+        };
+        let mut session = Session::new(
+            opened.board,
+            options.table.clone(),
+            calibration,
+            SessionOptions {
+                seed: options.seed,
+                calibration_path: options.calibration_path.clone(),
+                key_hints,
+            },
+        )?;
+        if options.calibrate {
+            session.start_calibration();
+        }
+        let audio = AudioOutput::open();
+        let pads = Gamepads::open();
+        if let Some(n) = &pads.notice {
+            eprintln!("space-foosball: {n}");
+        }
+        let now = Instant::now();
+        Ok(App {
+            controls: Controls::new(&options.table),
+            options,
+            window: None,
+            renderer: None,
+            session,
+            live: opened.live,
+            pads,
+            audio,
+            error: None,
+            started: now,
+            last_tick: now,
+            frames: 0,
+            last: None,
+            capture_written: false,
+        })
+    }
+
+    fn fail(&mut self, el: &ActiveEventLoop, e: anyhow::Error) {
+        if self.error.is_none() {
+            self.error = Some(e);
+        }
+        el.exit();
+    }
+
+    /// One line of JSON on stdout when the window closes: what it showed last.
+    fn report(&self) {
+        let Some(last) = &self.last else { return };
+        let elapsed = self.started.elapsed().as_secs_f64();
+        let (adapter, present) = self
+            .renderer
+            .as_ref()
+            .map(|r| (r.adapter().name.clone(), r.present_mode()))
+            .unwrap_or_default();
+        let b = last.snapshot.ball.position;
+        let (w, h) = self.renderer.as_ref().map_or((0, 0), WindowRenderer::size);
+        let controllers = self.session.controllers();
+        let rods: Vec<String> = last
+            .snapshot
+            .rods
+            .iter()
+            .map(|r| format!("[{:.4}, {:.4}]", r.slide_m, r.angle_rad))
+            .collect();
+        println!(
+            "{{\"frames\": {}, \"seconds\": {elapsed:.2}, \"fps\": {:.1}, \"adapter\": {adapter:?}, \
+             \"present_mode\": {present:?}, \"board\": {:?}, \"stage\": {:?}, \"screen\": {:?}, \
+             \"match_time_s\": {:.3}, \"paused\": {}, \"score\": [{}, {}], \
+             \"ball\": [{:.5}, {:.5}, {:.5}], \"width\": {w}, \"height\": {h}, \"sound\": {:?}, \
+             \"input\": {:?}, \"controllers\": [{:?}, {:?}], \"rods\": [{}]}}",
+            self.frames,
+            self.frames as f64 / elapsed.max(1e-9),
+            self.session.board_name(),
+            last.stage.name(),
+            last.screen.name(),
+            last.match_time_s,
+            last.paused,
+            last.snapshot.score[0],
+            last.snapshot.score[1],
+            b[0],
+            b[1],
+            b[2],
+            if self.audio.is_silent() {
+                "silent"
+            } else {
+                "on"
+            },
+            format!("{:?}", last.health).to_lowercase(),
+            format!("{:?}", controllers[0]).to_lowercase(),
+            format!("{:?}", controllers[1]).to_lowercase(),
+            rods.join(", "),
+        );
+    }
+
+    /// A click hands the mouse to the game (hidden, kept in the window: its motion
+    /// slides and spins the rod); `Esc` or leaving the window gives it back.
+    fn grab_mouse(&mut self, grab: bool) {
+        let Some(w) = &self.window else { return };
+        if grab {
+            // Locked where the platform can, else confined; neither is fatal.
+            let _ = w
+                .set_cursor_grab(CursorGrabMode::Locked)
+                .or_else(|_| w.set_cursor_grab(CursorGrabMode::Confined));
+        } else {
+            let _ = w.set_cursor_grab(CursorGrabMode::None);
+        }
+        w.set_cursor_visible(!grab);
+    }
+
+    fn key(&mut self, el: &ActiveEventLoop, code: KeyCode, pressed: bool) {
+        if pressed {
+            match code {
+                KeyCode::Escape => match self.session.escape() {
+                    Ok(true) => {
+                        el.exit();
+                        return;
+                    }
+                    Ok(false) => self.grab_mouse(false),
+                    Err(e) => return self.fail(el, e),
+                },
+                KeyCode::KeyC if self.session.stage() == Stage::Attract => {
+                    self.session.start_calibration();
+                }
+                KeyCode::Enter if self.session.user_paused() => {
+                    self.session.set_user_paused(false);
+                    return;
+                }
+                KeyCode::KeyT | KeyCode::KeyG if self.session.stage() == Stage::Calibration => {
+                    if let Some(rod) = self.session.calibration_rod() {
+                        let turns = if code == KeyCode::KeyT { 1.0 } else { -1.0 };
+                        self.controls.turn_paddle(rod, turns);
+                    }
+                }
+                _ => {}
+            }
+        }
+        if let Some(k) = map_key(code) {
+            self.controls.key(k, pressed);
+        }
+    }
+
+    fn redraw(&mut self, el: &ActiveEventLoop) {
+        let now = Instant::now();
+        let dt = now.duration_since(self.last_tick).as_secs_f64();
+        self.last_tick = now;
+        let t = now.duration_since(self.started).as_secs_f64();
+        for (key, pressed) in self.options.script.due(t) {
+            if let Some(code) = key {
+                self.key(el, code, pressed);
+            }
+        }
+        if let Some(rod) = self.session.calibration_rod() {
+            self.controls.select_rod(rod);
+        }
+        let pad = self.pads.state();
+        self.controls.tick(dt, pad);
+        if let Some(live) = &self.live {
+            self.controls.apply(live);
+        }
+        let mut out = match self.session.frame() {
+            Ok(o) => o,
+            Err(e) => return self.fail(el, e),
+        };
+        if self.live.is_some()
+            && matches!(
+                out.stage,
+                Stage::Attract | Stage::CharacterSelect | Stage::Playing
+            )
+        {
+            let rod = self.controls.keyboard_key_number();
+            let team = format!("{:?}", self.controls.keyboard_team()).to_uppercase();
+            out.hud
+                .lines
+                .insert(0, format!("KEYBOARD: {team} ROD {rod}"));
+        }
+        for s in &out.sounds {
+            self.audio.play(*s);
+        }
+        let quitting = self.options.exit_after_s.is_some_and(|limit| t >= limit);
+        let capture = quitting && self.options.capture_window.is_some();
+        let Some(renderer) = self.renderer.as_mut() else {
+            return;
+        };
+        match renderer.draw(&out.snapshot, out.screen, &out.hud, capture) {
+            Ok(picture) => {
+                self.frames += 1;
+                if let (Some(img), Some(path)) = (picture, &self.options.capture_window) {
+                    let written = img.to_png().map_err(anyhow::Error::from).and_then(|png| {
+                        space_foosball::atomic_file::write_atomic(path, &png)
+                            .with_context(|| format!("writing {}", path.display()))
+                    });
+                    if let Err(e) = written {
+                        return self.fail(el, e);
+                    }
+                    self.capture_written = true;
+                }
+            }
+            Err(e) => return self.fail(el, anyhow!(e).context("drawing the frame")),
+        }
+        self.last = Some(out);
+        if quitting && (self.capture_written || !capture) {
+            el.exit();
+        }
+    }
+}
+
+/// The emulated board's key for a physical key (layout independent: `W` is the key
+/// where US keyboards have W).
+fn map_key(code: KeyCode) -> Option<Key> {
+    Some(match code {
+        KeyCode::Digit1 => Key::Rod(0),
+        KeyCode::Digit2 => Key::Rod(1),
+        KeyCode::Digit3 => Key::Rod(2),
+        KeyCode::Digit4 => Key::Rod(3),
+        KeyCode::KeyW | KeyCode::ArrowUp => Key::SlideAway,
+        KeyCode::KeyS | KeyCode::ArrowDown => Key::SlideNear,
+        KeyCode::KeyD | KeyCode::ArrowRight => Key::SpinForward,
+        KeyCode::KeyA | KeyCode::ArrowLeft => Key::SpinBack,
+        KeyCode::Space => Key::Kick,
+        KeyCode::Enter | KeyCode::NumpadEnter => Key::Push,
+        KeyCode::Tab => Key::SwitchTeam,
+        _ => return None,
+    })
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, el: &ActiveEventLoop) {
+        if self.window.is_some() {
+            return;
+        }
+        let (w, h) = self.options.size;
+        let mut attrs = Window::default_attributes()
+            .with_title("Space Foosball")
+            .with_inner_size(PhysicalSize::new(w, h));
+        if self.options.fullscreen {
+            attrs = attrs.with_fullscreen(Some(Fullscreen::Borderless(None)));
+        }
+        let window = match el.create_window(attrs) {
+            Ok(w) => Arc::new(w),
+            Err(e) => return self.fail(el, anyhow!(e).context("could not open the window")),
+        };
+        let size = window.inner_size();
+        let (w, h) = if size.width > 0 && size.height > 0 {
+            (size.width, size.height)
+        } else {
+            (w, h)
+        };
+        match WindowRenderer::new(Arc::clone(&window), w, h, self.options.present) {
+            Ok(r) => {
+                eprintln!(
+                    "space-foosball: drawing on {} ({}), present mode {}, board: {}",
+                    r.adapter().name,
+                    r.adapter().backend,
+                    r.present_mode(),
+                    self.session.board_name()
+                );
+                self.renderer = Some(r);
+            }
+            Err(e) => return self.fail(el, anyhow!(e)),
+        }
+        window.request_redraw();
+        self.window = Some(window);
+    }
+
+    fn window_event(&mut self, el: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested => el.exit(),
+            WindowEvent::Resized(size) => {
+                if let Some(r) = &mut self.renderer {
+                    r.resize(size.width, size.height);
+                }
+            }
+            WindowEvent::KeyboardInput {
+                event:
+                    KeyEvent {
+                        physical_key: PhysicalKey::Code(code),
+                        state,
+                        repeat: false,
+                        ..
+                    },
+                ..
+            } => self.key(el, code, state == ElementState::Pressed),
+            WindowEvent::MouseWheel { delta, .. } => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
+                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
+                };
+                self.controls.wheel(lines);
+            }
+            WindowEvent::MouseInput {
+                state: ElementState::Pressed,
+                ..
+            } => self.grab_mouse(true),
+            WindowEvent::Focused(false) => self.grab_mouse(false),
+            WindowEvent::RedrawRequested => self.redraw(el),
+            _ => {}
+        }
+    }
+
+    fn device_event(&mut self, _el: &ActiveEventLoop, _id: DeviceId, event: DeviceEvent) {
+        if let DeviceEvent::MouseMotion { delta: (dx, dy) } = event {
+            self.controls.mouse_motion(dx, dy);
+        }
+    }
+
+    fn about_to_wait(&mut self, _el: &ActiveEventLoop) {
+        if let Some(w) = &self.window {
+            w.request_redraw();
+        }
+    }
+}

@@ -1,0 +1,264 @@
+//! Drawing to a window: the same pipelines as offscreen pictures, on a wgpu surface.
+//!
+//! The renderer knows no windowing library: anything with a raw window and display
+//! handle (a `winit` window in an `Arc`) becomes a surface. The surface is configured
+//! with an sRGB format when the adapter offers one (the scene's colours assume it) and
+//! the chosen present mode. [`WindowRenderer::draw`] can also hand back the very frame
+//! it presented (`capture`), read from the swapchain image before presenting, for the
+//! test that checks what the running window shows.
+
+use crate::gpu::{
+    copy_to_buffer, new_instance, open_device, padded_row_bytes, unpad_rows, AdapterSummary,
+    DEPTH_FORMAT,
+};
+use crate::image::RgbaImage;
+use crate::scene::{self, Hud, Screen};
+use crate::snapshot::FrameSnapshot;
+use crate::{RenderError, Renderer};
+
+/// How frames reach the screen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PresentChoice {
+    /// Wait for vertical blank (FIFO): no tearing, at most the display's refresh rate.
+    #[default]
+    Vsync,
+    /// Mailbox where the adapter offers it (newest frame replaces a queued one: low
+    /// latency, no tearing), else FIFO.
+    LowLatency,
+}
+
+/// A [`Renderer`] drawing into a window's surface.
+pub struct WindowRenderer {
+    renderer: Renderer,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    depth: wgpu::Texture,
+    can_copy: bool,
+}
+
+impl WindowRenderer {
+    /// Opens an adapter that can present to `window` (a hardware GPU, else a software
+    /// one such as lavapipe) and configures its surface at `width × height` pixels.
+    pub fn new(
+        window: impl Into<wgpu::SurfaceTarget<'static>>,
+        width: u32,
+        height: u32,
+        present: PresentChoice,
+    ) -> Result<WindowRenderer, RenderError> {
+        let instance = new_instance();
+        let surface = instance
+            .create_surface(window)
+            .map_err(|e| RenderError::Surface(e.to_string()))?;
+        let (adapter, device, queue) = open_device(&instance, Some(&surface))?;
+        let caps = surface.get_capabilities(&adapter);
+        let format = choose_format(&caps.formats).ok_or_else(|| {
+            RenderError::Surface("the adapter cannot present to this window".into())
+        })?;
+        let present_mode = match present {
+            PresentChoice::LowLatency
+                if caps.present_modes.contains(&wgpu::PresentMode::Mailbox) =>
+            {
+                wgpu::PresentMode::Mailbox
+            }
+            _ => wgpu::PresentMode::Fifo,
+        };
+        let can_copy = caps.usages.contains(wgpu::TextureUsages::COPY_SRC);
+        let mut usage = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        if can_copy {
+            usage |= wgpu::TextureUsages::COPY_SRC;
+        }
+        let config = wgpu::SurfaceConfiguration {
+            usage,
+            format,
+            width: width.max(1),
+            height: height.max(1),
+            present_mode,
+            desired_maximum_frame_latency: 2,
+            alpha_mode: caps
+                .alpha_modes
+                .first()
+                .copied()
+                .unwrap_or(wgpu::CompositeAlphaMode::Auto),
+            view_formats: vec![],
+        };
+        let renderer = Renderer::with_device(&adapter, device, queue, format)?;
+        surface.configure(&renderer.device, &config);
+        let depth = depth_texture(&renderer.device, config.width, config.height);
+        Ok(WindowRenderer {
+            renderer,
+            surface,
+            config,
+            depth,
+            can_copy,
+        })
+    }
+
+    /// The adapter in use.
+    pub fn adapter(&self) -> &AdapterSummary {
+        self.renderer.adapter()
+    }
+
+    /// The present mode in use, in words (`Fifo`, `Mailbox`).
+    pub fn present_mode(&self) -> String {
+        format!("{:?}", self.config.present_mode)
+    }
+
+    /// The surface size, pixels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.config.width, self.config.height)
+    }
+
+    /// Follows a window resize; a zero side (minimised) keeps the old size.
+    pub fn resize(&mut self, width: u32, height: u32) {
+        if width == 0 || height == 0 || (width, height) == self.size() {
+            return;
+        }
+        self.config.width = width.min(crate::MAX_SIDE);
+        self.config.height = height.min(crate::MAX_SIDE);
+        self.surface.configure(&self.renderer.device, &self.config);
+        self.depth = depth_texture(&self.renderer.device, self.config.width, self.config.height);
+    }
+
+    /// Draws `snap` on `screen` with `hud` and presents it. With `capture`, returns
+    /// the presented picture (RGBA): read from the swapchain image when the surface
+    /// allows copies, else the same frame rendered offscreen at the window's size.
+    /// `Ok(None)` when not capturing or when the surface had no image this time (it
+    /// was outdated by a resize and has been reconfigured; the next frame draws).
+    pub fn draw(
+        &mut self,
+        snap: &FrameSnapshot,
+        screen: Screen,
+        hud: &Hud,
+        capture: bool,
+    ) -> Result<Option<RgbaImage>, RenderError> {
+        let (width, height) = self.size();
+        let frame = match self.surface.get_current_texture() {
+            Ok(f) => f,
+            Err(wgpu::SurfaceError::Outdated | wgpu::SurfaceError::Lost) => {
+                self.surface.configure(&self.renderer.device, &self.config);
+                return Ok(None);
+            }
+            Err(wgpu::SurfaceError::Timeout) => return Ok(None),
+            Err(e) => return Err(RenderError::Surface(e.to_string())),
+        };
+        let scene = scene::build_with_hud(snap, screen, hud, width, height);
+        let device = &self.renderer.device;
+        device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let view = frame.texture.create_view(&Default::default());
+        let depth_view = self.depth.create_view(&Default::default());
+        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("window frame"),
+        });
+        self.renderer
+            .encode_scene(&mut enc, &scene, &view, &depth_view, width, height);
+        let padded_row = padded_row_bytes(width);
+        let readback = (capture && self.can_copy).then(|| {
+            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("window capture"),
+                size: u64::from(padded_row) * u64::from(height),
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            });
+            copy_to_buffer(&mut enc, &frame.texture, &buffer, padded_row, width, height);
+            buffer
+        });
+        self.renderer.queue.submit([enc.finish()]);
+        if let Some(e) = pollster::block_on(device.pop_error_scope()) {
+            return Err(RenderError::Gpu(e.to_string()));
+        }
+        frame.present();
+        if !capture {
+            return Ok(None);
+        }
+        let Some(buffer) = readback else {
+            return self
+                .renderer
+                .render_to_rgba_with_hud(snap, screen, hud, width, height)
+                .map(Some);
+        };
+        let slice = buffer.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        device
+            .poll(wgpu::PollType::Wait)
+            .map_err(|e| RenderError::Gpu(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| RenderError::Gpu(e.to_string()))?
+            .map_err(|e| RenderError::Gpu(e.to_string()))?;
+        let data = unpad_rows(
+            &slice.get_mapped_range(),
+            padded_row,
+            width,
+            self.config.format,
+        );
+        buffer.unmap();
+        Ok(Some(RgbaImage::new(width, height, data)))
+    }
+}
+
+/// An sRGB 8-bit format if offered (the scene's colours assume sRGB encoding), else the
+/// first offered.
+fn choose_format(formats: &[wgpu::TextureFormat]) -> Option<wgpu::TextureFormat> {
+    use wgpu::TextureFormat::{Bgra8UnormSrgb, Rgba8UnormSrgb};
+    formats
+        .iter()
+        .copied()
+        .find(|f| matches!(f, Bgra8UnormSrgb | Rgba8UnormSrgb))
+        .or_else(|| formats.iter().copied().find(|f| f.is_srgb()))
+        .or_else(|| formats.first().copied())
+}
+
+fn depth_texture(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("window depth"),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: DEPTH_FORMAT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        view_formats: &[],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wgpu::TextureFormat as F;
+
+    #[test]
+    fn prefers_srgb_formats() {
+        assert_eq!(
+            choose_format(&[F::Bgra8Unorm, F::Bgra8UnormSrgb]),
+            Some(F::Bgra8UnormSrgb)
+        );
+        assert_eq!(
+            choose_format(&[F::Rgb10a2Unorm, F::Rgba8UnormSrgb]),
+            Some(F::Rgba8UnormSrgb)
+        );
+        assert_eq!(choose_format(&[F::Bgra8Unorm]), Some(F::Bgra8Unorm));
+        assert_eq!(choose_format(&[]), None);
+    }
+
+    #[test]
+    fn bgra_rows_are_swizzled_and_unpadded() {
+        // Two pixels per row, rows padded to 12 bytes.
+        let mapped = [
+            1, 2, 3, 4, 5, 6, 7, 8, 0, 0, 0, 0, 9, 10, 11, 12, 13, 14, 15, 16, 0, 0, 0, 0,
+        ];
+        assert_eq!(
+            unpad_rows(&mapped, 12, 2, F::Bgra8UnormSrgb),
+            vec![3, 2, 1, 4, 7, 6, 5, 8, 11, 10, 9, 12, 15, 14, 13, 16]
+        );
+        assert_eq!(
+            unpad_rows(&mapped, 12, 2, F::Rgba8UnormSrgb),
+            vec![1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16]
+        );
+    }
+}
