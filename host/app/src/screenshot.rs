@@ -4,7 +4,6 @@ use anyhow::{bail, Context, Result};
 use foosball_render::demo::screen_snapshot;
 use foosball_render::{Renderer, Screen, MAX_SIDE};
 use space_foosball::atomic_file::write_atomic;
-use space_foosball::table::Table;
 use std::path::{Path, PathBuf};
 
 /// Which screens to picture.
@@ -67,7 +66,7 @@ pub fn run(args: &Args) -> Result<()> {
             args.time
         );
     }
-    let table = load_table(&args.table)?;
+    let table = crate::headless::load_table(&args.table)?;
     let jobs = jobs(args.screen, &args.out)?;
     let mut renderer = Renderer::new().context("opening a graphics adapter")?;
     for (screen, path) in jobs {
@@ -87,16 +86,6 @@ pub fn run(args: &Args) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// A preset name or a TOML file.
-fn load_table(spec: &str) -> Result<Table> {
-    let path = Path::new(spec);
-    if path.extension().is_some_and(|e| e == "toml") {
-        Table::load(path).with_context(|| format!("table {spec}"))
-    } else {
-        Table::preset(spec).with_context(|| format!("--table {spec}"))
-    }
 }
 
 /// The (screen, file) pairs to write, after checking the output location before any

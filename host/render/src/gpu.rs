@@ -533,31 +533,46 @@ impl Renderer {
         let Some(target) = &self.target else {
             return Err(RenderError::Gpu("no render target".into()));
         };
-        let slice = target.readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        self.device
-            .poll(wgpu::PollType::Wait)
-            .map_err(|e| RenderError::Gpu(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| RenderError::Gpu(e.to_string()))?
-            .map_err(|e| RenderError::Gpu(e.to_string()))?;
-        let data = unpad_rows(
-            &slice.get_mapped_range(),
+        read_buffer(
+            &self.device,
+            &target.readback,
             target.padded_row,
             target.width,
+            target.height,
             self.color_format,
-        );
-        target.readback.unmap();
-        Ok(RgbaImage::new(target.width, target.height, data))
+        )
     }
 
     /// The colour format pictures are drawn in.
     pub fn color_format(&self) -> wgpu::TextureFormat {
         self.color_format
     }
+}
+
+/// Maps `buffer` (a copied `width × height` picture in `format` with rows of `padded_row`
+/// bytes), waits for the GPU and returns the picture as RGBA.
+pub(crate) fn read_buffer(
+    device: &wgpu::Device,
+    buffer: &wgpu::Buffer,
+    padded_row: u32,
+    width: u32,
+    height: u32,
+    format: wgpu::TextureFormat,
+) -> Result<RgbaImage, RenderError> {
+    let slice = buffer.slice(..);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    device
+        .poll(wgpu::PollType::Wait)
+        .map_err(|e| RenderError::Gpu(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| RenderError::Gpu(e.to_string()))?
+        .map_err(|e| RenderError::Gpu(e.to_string()))?;
+    let data = unpad_rows(&slice.get_mapped_range(), padded_row, width, format);
+    buffer.unmap();
+    Ok(RgbaImage::new(width, height, data))
 }
 
 /// Copies `texture` (`width × height`, 4 bytes per pixel) into `buffer` with rows of

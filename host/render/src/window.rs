@@ -8,7 +8,7 @@
 //! test that checks what the running window shows.
 
 use crate::gpu::{
-    copy_to_buffer, new_instance, open_device, padded_row_bytes, unpad_rows, AdapterSummary,
+    copy_to_buffer, new_instance, open_device, padded_row_bytes, read_buffer, AdapterSummary,
     DEPTH_FORMAT,
 };
 use crate::image::RgbaImage;
@@ -176,25 +176,15 @@ impl WindowRenderer {
                 .render_to_rgba_with_hud(snap, screen, hud, width, height)
                 .map(Some);
         };
-        let slice = buffer.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        device
-            .poll(wgpu::PollType::Wait)
-            .map_err(|e| RenderError::Gpu(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| RenderError::Gpu(e.to_string()))?
-            .map_err(|e| RenderError::Gpu(e.to_string()))?;
-        let data = unpad_rows(
-            &slice.get_mapped_range(),
+        read_buffer(
+            device,
+            &buffer,
             padded_row,
             width,
+            height,
             self.config.format,
-        );
-        buffer.unmap();
-        Ok(Some(RgbaImage::new(width, height, data)))
+        )
+        .map(Some)
     }
 }
 
@@ -230,6 +220,7 @@ fn depth_texture(device: &wgpu::Device, width: u32, height: u32) -> wgpu::Textur
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::gpu::unpad_rows;
     use wgpu::TextureFormat as F;
 
     #[test]

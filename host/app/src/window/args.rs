@@ -3,9 +3,8 @@
 use super::board::BoardChoice;
 use super::script::Script;
 use super::WindowOptions;
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use foosball_render::PresentChoice;
-use space_foosball::table::Table;
 use std::path::{Path, PathBuf};
 
 /// Options of `space-foosball play` for the window.
@@ -69,16 +68,6 @@ pub fn default_calibration_path() -> Option<PathBuf> {
     Some(config.join("space-foosball").join("calibration.json"))
 }
 
-/// A preset name or a TOML file.
-fn load_table(spec: &str) -> Result<Table> {
-    let path = Path::new(spec);
-    if path.extension().is_some_and(|e| e == "toml") {
-        Table::load(path).with_context(|| format!("table {spec}"))
-    } else {
-        Table::preset(spec).with_context(|| format!("--table {spec}"))
-    }
-}
-
 impl WindowArgs {
     /// Checks the options and turns them into [`WindowOptions`].
     pub fn options(&self) -> Result<WindowOptions> {
@@ -106,7 +95,7 @@ impl WindowArgs {
         }
         Ok(WindowOptions {
             board: self.board.clone(),
-            table: load_table(&self.table)?,
+            table: crate::headless::load_table(&self.table)?,
             size: (self.width, self.height),
             fullscreen: self.fullscreen,
             present: if self.low_latency {
