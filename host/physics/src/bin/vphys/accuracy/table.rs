@@ -73,23 +73,13 @@ pub fn markdown(r: &Report) -> String {
         }
         let _ = writeln!(s);
         let kinds = IntegratorKind::ALL;
-        let _ = write!(
-            s,
-            "\n| {} |",
-            if p == Problem::Towers {
-                "substeps"
-            } else {
-                "dt (s)"
-            }
-        );
-        for k in kinds {
-            let _ = write!(s, " {k} |");
-        }
-        let _ = write!(s, "\n|---|");
-        for _ in kinds {
-            let _ = write!(s, "---|");
-        }
+        let first = if p == Problem::Towers {
+            "substeps"
+        } else {
+            "dt (s)"
+        };
         let _ = writeln!(s);
+        header(&mut s, first, &kinds);
         for dt in steps(r, p) {
             let label = match find(r, p, kinds[0], dt).and_then(|row| row.substeps) {
                 Some(n) => n.to_string(),
@@ -113,15 +103,7 @@ pub fn markdown(r: &Report) -> String {
                 s,
                 "\nEnergy drift (relative, 10 s) and flips (reference: 3):\n"
             );
-            let _ = write!(s, "| dt (s) |");
-            for k in kinds {
-                let _ = write!(s, " {k} |");
-            }
-            let _ = write!(s, "\n|---|");
-            for _ in kinds {
-                let _ = write!(s, "---|");
-            }
-            let _ = writeln!(s);
+            header(&mut s, "dt (s)", &kinds);
             for dt in steps(r, p) {
                 let _ = write!(s, "| {} |", step_label(dt));
                 for k in kinds {
@@ -182,4 +164,17 @@ pub fn step_costs(costs: &[StepCost]) -> String {
         );
     }
     s
+}
+
+/// A Markdown table header: the first column, then one column per integrator.
+fn header(s: &mut String, first: &str, kinds: &[IntegratorKind]) {
+    let _ = write!(s, "| {first} |");
+    for k in kinds {
+        let _ = write!(s, " {k} |");
+    }
+    let _ = write!(s, "\n|---|");
+    for _ in kinds {
+        let _ = write!(s, "---|");
+    }
+    let _ = writeln!(s);
 }
