@@ -205,3 +205,42 @@ fn the_window_plays_a_match_from_the_keyboard_against_the_computer() {
     });
     assert!(white > 40, "score display: {white} white pixels");
 }
+
+/// The README's play command as a newcomer runs it: no `--board`, so the game looks for
+/// the board on USB and, with none plugged in, says so and plays on the built-in
+/// emulated board (the attract screen with the computer playing itself).
+#[test]
+fn without_a_board_play_falls_back_to_the_emulated_board() {
+    if !display_or_skip() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(BIN)
+        .args([
+            "play",
+            "--width",
+            "320",
+            "--height",
+            "180",
+            "--calibration",
+            dir.path().join("cal.json").to_str().unwrap(),
+            "--exit-after-s",
+            "3",
+        ])
+        .env("SPACE_FOOSBALL_AUDIO", "off")
+        .env("XDG_RUNTIME_DIR", dir.path())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "play failed: {stderr}");
+    let json = stdout.lines().last().unwrap_or_default();
+    let board = field(json, "board");
+    if !board.contains("emulated") {
+        eprintln!("a real board is plugged in ({board}): the fallback is not exercised here");
+        return;
+    }
+    assert!(stderr.contains("no board on USB"), "no notice: {stderr}");
+    assert_eq!(field(json, "paused"), "false", "{json}");
+    assert!(field(json, "frames").parse::<u64>().unwrap() >= 3, "{json}");
+}
