@@ -244,3 +244,81 @@ fn without_a_board_play_falls_back_to_the_emulated_board() {
     assert_eq!(field(json, "paused"), "false", "{json}");
     assert!(field(json, "frames").parse::<u64>().unwrap() >= 3, "{json}");
 }
+
+/// The mouse, through the X server: `xdotool` moves the pointer up and to the right
+/// during the match, and Home's selected rod (rod 1, the goalkeeper) must end slid away
+/// from its player and spun — X → winit's raw mouse motion → the emulated board's
+/// sensors → input → physics. Needs `xdotool` (installed by `scripts/test-all`); without
+/// it the test says why it skips, unless `SPACE_FOOSBALL_REQUIRE_DISPLAY` is set.
+#[test]
+fn the_mouse_slides_and_spins_the_selected_rod() {
+    if !display_or_skip() {
+        return;
+    }
+    let have_xdotool = Command::new("xdotool")
+        .arg("version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !have_xdotool {
+        assert!(
+            std::env::var_os("SPACE_FOOSBALL_REQUIRE_DISPLAY").is_none(),
+            "SPACE_FOOSBALL_REQUIRE_DISPLAY is set but xdotool is missing (apt-get install xdotool)"
+        );
+        eprintln!("skipping the mouse test: no xdotool (apt-get install xdotool)");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let child = Command::new(BIN)
+        .args([
+            "play",
+            "--board",
+            "emulated",
+            "--width",
+            "640",
+            "--height",
+            "360",
+            "--calibration",
+            dir.path().join("cal.json").to_str().unwrap(),
+            "--exit-after-s",
+            "9",
+            "--demo-input",
+            "1.0:enter,2.0:enter",
+        ])
+        .env("SPACE_FOOSBALL_AUDIO", "off")
+        .env("XDG_RUNTIME_DIR", dir.path())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // The match starts 2 s after the window opens; move from 4 s to about 7 s.
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    for (dx, dy) in [(0, -15); 30].into_iter().chain([(15, 0); 30]) {
+        let moved = Command::new("xdotool")
+            .args(["mousemove_relative", "--", &dx.to_string(), &dy.to_string()])
+            .status()
+            .unwrap();
+        assert!(moved.success(), "xdotool failed");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let out = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "play failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json = stdout.lines().last().unwrap_or_default();
+    assert_eq!(field(json, "stage"), "\"playing\"", "{json}");
+    let table = Table::standard();
+    let keeper = table.rods_of(Side::Home).next().unwrap();
+    let rods = numbers(field(json, "rods").trim());
+    let (slide, angle) = (rods[2 * keeper], rods[2 * keeper + 1]);
+    assert!(
+        slide > 0.03,
+        "mouse up should slide the rod: {slide} m: {json}"
+    );
+    assert!(
+        angle.abs() > 1.0,
+        "mouse right should spin the rod: {angle} rad: {json}"
+    );
+}
