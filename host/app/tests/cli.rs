@@ -8,7 +8,9 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-const BIN: &str = env!("CARGO_BIN_EXE_space-foosball");
+mod common;
+
+use common::{run, BIN};
 const SCREENS: [&str; 7] = [
     "attract",
     "character-select",
@@ -18,15 +20,6 @@ const SCREENS: [&str; 7] = [
     "board-lost",
     "calibration",
 ];
-
-fn run(args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .env_remove("DISPLAY")
-        .env_remove("WAYLAND_DISPLAY")
-        .output()
-        .expect("run space-foosball")
-}
 
 /// Runs `space-foosball screenshot --screen SCREEN --out OUT --width W --height H`.
 fn screenshot(screen: &str, out: &std::path::Path, width: u32, height: u32) -> Output {

@@ -21,6 +21,19 @@ const BIN: &str = env!("CARGO_BIN_EXE_space-foosball");
 const W: u32 = 960;
 const H: u32 = 540;
 
+/// `space-foosball play ARGS` for a test: silent, with its calibration file and the
+/// runtime directory wgpu wants in `dir` (the user's files are never touched).
+fn windowed_play(dir: &std::path::Path, args: &[&str]) -> Command {
+    let mut c = Command::new(BIN);
+    c.arg("play")
+        .args(args)
+        .arg("--calibration")
+        .arg(dir.join("cal.json"))
+        .env("SPACE_FOOSBALL_AUDIO", "off")
+        .env("XDG_RUNTIME_DIR", dir);
+    c
+}
+
 fn display_or_skip() -> bool {
     let has = ["DISPLAY", "WAYLAND_DISPLAY"]
         .iter()
@@ -115,28 +128,25 @@ fn the_window_plays_a_match_from_the_keyboard_against_the_computer() {
     let dir = tempfile::tempdir().unwrap();
     let png_path = dir.path().join("window.png");
     let (w, h) = (W.to_string(), H.to_string());
-    let out = Command::new(BIN)
-        .args([
-            "play",
+    let out = windowed_play(
+        dir.path(),
+        &[
             "--board",
             "emulated",
             "--width",
             &w,
             "--height",
             &h,
-            "--calibration",
-            dir.path().join("cal.json").to_str().unwrap(),
             "--exit-after-s",
             "8",
             "--capture-window",
             png_path.to_str().unwrap(),
             "--demo-input",
             "start",
-        ])
-        .env("SPACE_FOOSBALL_AUDIO", "off")
-        .env("XDG_RUNTIME_DIR", dir.path())
-        .output()
-        .unwrap();
+        ],
+    )
+    .output()
+    .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -215,22 +225,12 @@ fn without_a_board_play_falls_back_to_the_emulated_board() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(BIN)
-        .args([
-            "play",
-            "--width",
-            "320",
-            "--height",
-            "180",
-            "--calibration",
-            dir.path().join("cal.json").to_str().unwrap(),
-            "--exit-after-s",
-            "3",
-        ])
-        .env("SPACE_FOOSBALL_AUDIO", "off")
-        .env("XDG_RUNTIME_DIR", dir.path())
-        .output()
-        .unwrap();
+    let out = windowed_play(
+        dir.path(),
+        &["--width", "320", "--height", "180", "--exit-after-s", "3"],
+    )
+    .output()
+    .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "play failed: {stderr}");
@@ -268,28 +268,25 @@ fn the_mouse_slides_and_spins_the_selected_rod() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let child = Command::new(BIN)
-        .args([
-            "play",
+    let child = windowed_play(
+        dir.path(),
+        &[
             "--board",
             "emulated",
             "--width",
             "640",
             "--height",
             "360",
-            "--calibration",
-            dir.path().join("cal.json").to_str().unwrap(),
             "--exit-after-s",
             "9",
             "--demo-input",
             "1.0:enter,2.0:enter",
-        ])
-        .env("SPACE_FOOSBALL_AUDIO", "off")
-        .env("XDG_RUNTIME_DIR", dir.path())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+        ],
+    )
+    .stdout(std::process::Stdio::piped())
+    .stderr(std::process::Stdio::piped())
+    .spawn()
+    .unwrap();
     // The match starts 2 s after the window opens; move from 4 s to about 7 s.
     std::thread::sleep(std::time::Duration::from_secs(4));
     for (dx, dy) in [(0, -15); 30].into_iter().chain([(15, 0); 30]) {
