@@ -127,6 +127,19 @@ pub struct InReport {
 }
 
 impl InReport {
+    /// A report with sequence number `sequence` in which every sensor is present and no
+    /// paddle moved: the starting point for a report that moves some paddles.
+    pub const fn all_present(sequence: u16) -> Self {
+        Self {
+            sequence,
+            paddles: [PaddleMotion {
+                axial: 0,
+                rotation: 0,
+                status: PaddleStatus::PRESENT,
+            }; PADDLES],
+        }
+    }
+
     /// Writes the report into `buf`, returning the number of bytes written
     /// ([`IN_REPORT_LEN`]).
     pub fn encode(&self, buf: &mut [u8]) -> Result<usize, EncodeError> {

@@ -1,7 +1,7 @@
 //! Board input → rod poses: clamping, velocity, lost boards, gaps, absent sensors.
 
 use board_link::{Board, BoardError, InReport, LinkState, LinkStats, OutReport};
-use foosball_protocol::{PaddleMotion, PaddleStatus};
+use foosball_protocol::PaddleStatus;
 use space_foosball::input::calibration::Calibration;
 use space_foosball::input::paddles::{BoardInput, InputHealth, PaddleTracker};
 use space_foosball::Table;
@@ -34,14 +34,7 @@ impl Board for FakeBoard {
 
 /// A report moving `port` by (`axial`, `rotation`) counts, every sensor present.
 fn report(sequence: u16, port: usize, axial: i16, rotation: i16) -> InReport {
-    let mut r = InReport {
-        sequence,
-        paddles: [PaddleMotion {
-            axial: 0,
-            rotation: 0,
-            status: PaddleStatus::PRESENT,
-        }; 8],
-    };
+    let mut r = InReport::all_present(sequence);
     r.paddles[port].axial = axial;
     r.paddles[port].rotation = rotation;
     r

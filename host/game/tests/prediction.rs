@@ -5,7 +5,7 @@
 //! a staircase 0–5 ms behind; with a 5 ms horizon it follows the motion between
 //! packets, and when the rod stops it overshoots by at most `v × horizon`, then settles.
 
-use foosball_protocol::{InReport, PaddleMotion, PaddleStatus};
+use foosball_protocol::InReport;
 use space_foosball::input::calibration::Calibration;
 use space_foosball::input::paddles::{PaddleTracker, MOUSE_PACKET_PREDICTION_MS};
 use space_foosball::Table;
@@ -15,14 +15,7 @@ const COUNTS_PER_PACKET: i16 = 8; // 1 mm per 5 ms = 0.2 m/s
 const SPEED: f64 = 0.2;
 
 fn report(sequence: u16, axial: i16) -> InReport {
-    let mut r = InReport {
-        sequence,
-        paddles: [PaddleMotion {
-            axial: 0,
-            rotation: 0,
-            status: PaddleStatus::PRESENT,
-        }; 8],
-    };
+    let mut r = InReport::all_present(sequence);
     r.paddles[PORT].axial = axial;
     r
 }

@@ -214,20 +214,12 @@ impl Calibrator {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use foosball_protocol::{PaddleMotion, PaddleStatus, PADDLES};
 
     fn report(seq: u16, port: usize, counts: [i16; 2]) -> InReport {
-        let mut paddles = [PaddleMotion {
-            axial: 0,
-            rotation: 0,
-            status: PaddleStatus::PRESENT,
-        }; PADDLES];
-        paddles[port].axial = counts[0];
-        paddles[port].rotation = counts[1];
-        InReport {
-            sequence: seq,
-            paddles,
-        }
+        let mut r = InReport::all_present(seq);
+        r.paddles[port].axial = counts[0];
+        r.paddles[port].rotation = counts[1];
+        r
     }
 
     #[test]
