@@ -57,6 +57,15 @@ enum Cmd {
         /// Force sleeping on or off.
         #[arg(long)]
         sleeping: Option<bool>,
+        /// Override the scene's substeps per step (1 … 64).
+        #[arg(long, value_parser = clap::value_parser!(u16).range(1..=64))]
+        substeps: Option<u16>,
+        /// Override the scene's contact stiffness (Hz, > 0).
+        #[arg(long)]
+        contact_hertz: Option<f64>,
+        /// Rigid contacts with a position bias instead of soft ones.
+        #[arg(long)]
+        rigid: bool,
     },
     /// Cost of each effect added to a base scene, and of the same effect undeclared.
     Effects {
@@ -118,6 +127,18 @@ fn main() -> Result<()> {
             scene,
             steps,
             sleeping,
-        } => run::bench(&scene, steps, sleeping),
+            substeps,
+            contact_hertz,
+            rigid,
+        } => run::bench(
+            &scene,
+            steps,
+            sleeping,
+            &run::SolverOverrides {
+                substeps: substeps.map(usize::from),
+                contact_hertz,
+                rigid,
+            },
+        ),
     }
 }

@@ -105,9 +105,40 @@ pub fn stats(t: &[f64]) -> (f64, f64, f64) {
 }
 
 /// `vphys bench`.
-pub fn bench(scene: &str, steps: Option<u64>, sleeping: Option<bool>) -> Result<()> {
+/// Solver settings of `vphys bench` that replace the scene's (the substep sweep in the
+/// README is made with them).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SolverOverrides {
+    /// Substeps per step.
+    pub substeps: Option<usize>,
+    /// Contact stiffness (Hz).
+    pub contact_hertz: Option<f64>,
+    /// Rigid contacts (position bias) instead of soft ones.
+    pub rigid: bool,
+}
+
+/// `vphys bench`: ms per step and the drift of the boxes, as one JSON object.
+pub fn bench(
+    scene: &str,
+    steps: Option<u64>,
+    sleeping: Option<bool>,
+    overrides: &SolverOverrides,
+) -> Result<()> {
     let s = load(scene, sleeping)?;
     let mut w = s.build()?;
+    if let Some(n) = overrides.substeps {
+        w.settings.substeps = n;
+    }
+    if let Some(hz) = overrides.contact_hertz {
+        anyhow::ensure!(
+            hz.is_finite() && hz > 0.0,
+            "--contact-hertz must be a positive number, got {hz}"
+        );
+        w.settings.contact_hertz = hz;
+    }
+    if overrides.rigid {
+        w.settings.soft_contacts = false;
+    }
     let n = steps.or(s.steps).unwrap_or(600);
     let start = w.bodies.pos.clone();
     let t = time_steps(&mut w, n, true)?;
@@ -119,6 +150,8 @@ pub fn bench(scene: &str, steps: Option<u64>, sleeping: Option<bool>) -> Result<
         "median_ms": med, "mean_ms": mean, "worst_ms": worst,
         "max_horizontal_drift_m": dh, "max_vertical_drift_m": dv,
         "max_penetration_m": w.max_penetration(),
+        "substeps": w.settings.substeps, "contact_hertz": w.settings.contact_hertz,
+        "soft_contacts": w.settings.soft_contacts,
     });
     println!("{out}");
     Ok(())
