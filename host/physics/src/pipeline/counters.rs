@@ -89,6 +89,10 @@ pub struct StepCounters {
     pub solver_iterations: usize,
     /// Substeps.
     pub substeps: usize,
+    /// Colours of the contact graph (constraints of one colour share no moving body).
+    pub contact_colours: usize,
+    /// Groups of four contact constraints solved side by side.
+    pub contact_groups: usize,
     /// Contact points that received a restitution impulse check.
     pub restitution_constraints: usize,
     /// ABA calls.

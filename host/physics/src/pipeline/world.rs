@@ -4,7 +4,9 @@
 use super::articulated::ArticulatedSystem;
 use super::islands::Islands;
 use super::{Effect, Effects, FreeForces, FreeIntegrator, IntegratorKind, Stage, StepCounters};
-use crate::dynamics::solver::{ContactConstraint, ContactSettings, FreeJoint, Softness};
+use crate::dynamics::solver::{
+    ContactBatches, ContactConstraint, ContactSettings, FreeJoint, Softness, SolvePass,
+};
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
 use crate::geometry::{BroadPhase, NarrowPhase, Shape, V3};
 
@@ -43,6 +45,10 @@ pub struct SolverSettings {
     pub linear_damping: f64,
     /// Angular damping rate (1/s), with the `damping` effect.
     pub angular_damping: f64,
+    /// Solve the contacts four at a time ([`ContactBatches`]: graph colouring, one constraint
+    /// per lane); false solves them one by one in manifold order (the same rows, another
+    /// Gauss–Seidel order).
+    pub batch_contacts: bool,
 }
 
 impl Default for SolverSettings {
@@ -61,6 +67,7 @@ impl Default for SolverSettings {
             restitution_threshold: 0.5,
             linear_damping: 0.0,
             angular_damping: 0.0,
+            batch_contacts: true,
         }
     }
 }
@@ -94,6 +101,8 @@ pub struct World {
     constraints: Vec<ContactConstraint>,
     joint_pairs: Vec<(usize, usize)>,
     excluded_pairs: Vec<u64>,
+    batches: ContactBatches,
+    batched: bool,
 }
 
 impl World {
@@ -124,6 +133,8 @@ impl World {
             constraints: Vec::new(),
             joint_pairs: Vec::new(),
             excluded_pairs: Vec::new(),
+            batches: ContactBatches::default(),
+            batched: false,
         }
     }
 
@@ -306,6 +317,13 @@ impl World {
             let rigid = Softness::rigid(self.settings.contact_bias_rate.min(0.5 * inv_h));
             (rigid, rigid)
         };
+        self.batched = self.settings.batch_contacts && !self.constraints.is_empty();
+        if self.batched {
+            self.batches
+                .build(&self.constraints, self.bodies.len(), &soft, &soft_static);
+            self.counters.contact_colours = self.batches.colours;
+            self.counters.contact_groups = self.batches.groups();
+        }
         let joint_soft = Softness::new(
             self.settings.joint_hertz.min(0.25 * inv_h),
             self.settings.joint_damping_ratio,
@@ -340,41 +358,48 @@ impl World {
         for sub in 0..n_sub {
             self.integrator
                 .integrate_velocities(&mut self.bodies, h, &forces);
-            for c in &self.constraints {
-                c.warm_start(&mut self.bodies);
-            }
+            self.warm_start_contacts();
             if joints_on {
                 for j in &self.joints {
                     j.warm_start(&mut self.bodies);
                 }
             }
             let rev = sub % 2 == 1;
+            let solve = SolvePass {
+                use_bias: true,
+                reverse: rev,
+            };
             self.solve_pass(
                 &soft,
                 &soft_static,
                 &joint_soft,
                 inv_h,
-                true,
                 max_push,
                 joints_on,
-                rev,
+                solve,
             );
             self.integrator.integrate_positions(&mut self.bodies, h);
             self.counters.solver_iterations += 1;
             if self.settings.relax_each_substep || sub + 1 == n_sub {
+                let relax = SolvePass {
+                    use_bias: false,
+                    reverse: !rev,
+                };
                 self.solve_pass(
                     &soft,
                     &soft_static,
                     &joint_soft,
                     inv_h,
-                    false,
                     max_push,
                     joints_on,
-                    !rev,
+                    relax,
                 );
                 self.counters.solver_iterations += 1;
             }
             self.counters.substeps += 1;
+        }
+        if self.batched {
+            self.batches.write_back(&mut self.constraints);
         }
         if eff.has(Effect::Restitution) && !self.constraints.is_empty() {
             self.counters.mark(Stage::Restitution);
@@ -424,6 +449,20 @@ impl World {
         })
     }
 
+    /// Warm start of the contacts: the batches, then the constraints solved one by one.
+    fn warm_start_contacts(&mut self) {
+        if self.batched {
+            self.batches.warm_start(&mut self.bodies);
+            for &ci in &self.batches.scalar {
+                self.constraints[ci].warm_start(&mut self.bodies);
+            }
+        } else {
+            for c in &self.constraints {
+                c.warm_start(&mut self.bodies);
+            }
+        }
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn solve_pass(
         &mut self,
@@ -431,19 +470,26 @@ impl World {
         soft_static: &Softness,
         joint_soft: &Softness,
         inv_h: f64,
-        use_bias: bool,
         max_push: f64,
         joints_on: bool,
-        reverse: bool,
+        pass: SolvePass,
     ) {
         if joints_on {
             for j in &mut self.joints {
-                j.solve(&mut self.bodies, joint_soft, use_bias);
+                j.solve(&mut self.bodies, joint_soft, pass.use_bias);
             }
         }
-        for c in &mut self.constraints {
-            let s = if c.against_static { soft_static } else { soft };
-            c.solve(&mut self.bodies, s, inv_h, use_bias, max_push, reverse);
+        let softness = |c: &ContactConstraint| if c.against_static { soft_static } else { soft };
+        if self.batched {
+            self.batches.solve(&mut self.bodies, inv_h, max_push, pass);
+            for &ci in &self.batches.scalar {
+                let c = &mut self.constraints[ci];
+                c.solve(&mut self.bodies, softness(c), inv_h, max_push, pass);
+            }
+        } else {
+            for c in &mut self.constraints {
+                c.solve(&mut self.bodies, softness(c), inv_h, max_push, pass);
+            }
         }
     }
 

@@ -66,6 +66,9 @@ enum Cmd {
         /// Rigid contacts with a position bias instead of soft ones.
         #[arg(long)]
         rigid: bool,
+        /// Solve the contacts one by one instead of four at a time.
+        #[arg(long)]
+        scalar_contacts: bool,
     },
     /// Cost of each effect added to a base scene, and of the same effect undeclared.
     Effects {
@@ -130,6 +133,7 @@ fn main() -> Result<()> {
             substeps,
             contact_hertz,
             rigid,
+            scalar_contacts,
         } => run::bench(
             &scene,
             steps,
@@ -138,6 +142,7 @@ fn main() -> Result<()> {
                 substeps: substeps.map(usize::from),
                 contact_hertz,
                 rigid,
+                scalar_contacts,
             },
         ),
     }

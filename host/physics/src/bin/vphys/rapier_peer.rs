@@ -6,6 +6,11 @@
 //! half-space with outward normal +z, friction 0.5 on every collider (rapier averages, we take
 //! the geometric mean: both 0.5), gravity (0, 0, −9.81), step 1/60 s. Sleeping off is
 //! `can_sleep(false)` on every rapier body and no `sleeping` effect on ours.
+//!
+//! Rapier runs at its defaults (4 solver iterations, contacts at 30 Hz, 60 Hz against fixed
+//! bodies) for the main rows. A second table runs it, sleeping off, with the scene's own solver
+//! settings — as many solver iterations as we take substeps, our contact stiffness — so that
+//! the two engines are also compared at the same accuracy.
 
 use anyhow::Result;
 
@@ -21,6 +26,30 @@ pub struct Row {
     ratio: f64,
     ours_max_drift_m: f64,
     rapier_max_drift_m: f64,
+}
+
+/// One row of the comparison at the same solver settings (sleeping off).
+#[derive(serde::Serialize)]
+pub struct MatchedRow {
+    scene: String,
+    rapier_iterations: usize,
+    rapier_contact_hertz: f64,
+    ours_ms: f64,
+    rapier_ms: f64,
+    ratio: f64,
+    ours_max_drift_m: f64,
+    rapier_max_drift_m: f64,
+}
+
+/// Rapier's solver settings for one run.
+#[derive(Clone, Copy, Debug)]
+#[cfg_attr(not(feature = "rapier-peer"), allow(dead_code))]
+enum RapierSettings {
+    /// `IntegrationParameters::default()`.
+    Defaults,
+    /// `num_solver_iterations = substeps`; contact natural frequency `hertz` (Hz), twice that
+    /// against fixed bodies, as ours.
+    Matched { substeps: usize, hertz: f64 },
 }
 
 /// Largest displacement of a dynamic body from its start (m).
@@ -39,6 +68,7 @@ fn rapier_run(
     s: &virtual_physics::scene::SceneFile,
     sleeping: bool,
     steps: u64,
+    settings: RapierSettings,
 ) -> Result<(f64, f64)> {
     use anyhow::bail;
     use rapier3d::prelude::*;
@@ -53,6 +83,12 @@ fn rapier_run(
         ..PhysicsWorld::default()
     };
     w.integration_parameters.dt = s.dt as Real;
+    if let RapierSettings::Matched { substeps, hertz } = settings {
+        let p = &mut w.integration_parameters;
+        p.num_solver_iterations = substeps;
+        p.contact_softness.natural_frequency = hertz as Real;
+        p.static_contact_softness.natural_frequency = 2.0 * hertz as Real;
+    }
     let mut handles = Vec::new();
     for (i, b) in s.bodies.iter().enumerate() {
         if b.rotation != [0.0; 3] {
@@ -122,7 +158,12 @@ fn rapier_run(
 }
 
 #[cfg(not(feature = "rapier-peer"))]
-fn rapier_run(_: &virtual_physics::scene::SceneFile, _: bool, _: u64) -> Result<(f64, f64)> {
+fn rapier_run(
+    _: &virtual_physics::scene::SceneFile,
+    _: bool,
+    _: u64,
+    _: RapierSettings,
+) -> Result<(f64, f64)> {
     eprintln!(
         "vphys: built without rapier; rebuild with\n  cargo run -p virtual-physics --release \
          --features rapier-peer --bin vphys -- peers rapier"
@@ -130,9 +171,10 @@ fn rapier_run(_: &virtual_physics::scene::SceneFile, _: bool, _: u64) -> Result<
     std::process::exit(2);
 }
 
-/// Runs the comparison and prints a table or `{"rows": [...]}`.
+/// Runs the comparison and prints two tables, or `{"rows": [...], "matched": [...]}`.
 pub fn run(scenes: &[String], steps: Option<u64>, json: bool) -> Result<()> {
     let mut rows = Vec::new();
+    let mut matched = Vec::new();
     for name in scenes {
         for sleeping in [false, true] {
             let s = load(name, Some(sleeping))?;
@@ -147,7 +189,7 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool) -> Result<()> {
             let start = snap(&w);
             let ours = stats(&time_steps(&mut w, n, !json)?).0;
             let ours_drift = max_drift(&start, &snap(&w));
-            let (rapier, rapier_drift) = rapier_run(&s, sleeping, n)?;
+            let (rapier, rapier_drift) = rapier_run(&s, sleeping, n, RapierSettings::Defaults)?;
             rows.push(Row {
                 scene: name.clone(),
                 sleeping,
@@ -157,12 +199,30 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool) -> Result<()> {
                 ours_max_drift_m: ours_drift,
                 rapier_max_drift_m: rapier_drift,
             });
+            if !sleeping {
+                let (substeps, hertz) = (w.settings.substeps, w.settings.contact_hertz);
+                let (rapier, rapier_drift) =
+                    rapier_run(&s, false, n, RapierSettings::Matched { substeps, hertz })?;
+                matched.push(MatchedRow {
+                    scene: name.clone(),
+                    rapier_iterations: substeps,
+                    rapier_contact_hertz: hertz,
+                    ours_ms: ours,
+                    rapier_ms: rapier,
+                    ratio: ours / rapier,
+                    ours_max_drift_m: ours_drift,
+                    rapier_max_drift_m: rapier_drift,
+                });
+            }
         }
     }
     if json {
-        println!("{}", serde_json::json!({ "rows": rows }));
+        println!(
+            "{}",
+            serde_json::json!({ "rows": rows, "matched": matched })
+        );
     } else {
-        println!("median ms per step, one thread; ours f64, rapier3d 0.36 f32; drift = largest move of a box (m)");
+        println!("median ms per step, one thread; ours f64, rapier3d 0.36 f32 at its defaults; drift = largest move of a box (m)");
         println!(
             "{:<14} {:>8} {:>10} {:>10} {:>8} {:>14} {:>16}",
             "scene", "sleeping", "ours ms", "rapier ms", "ratio", "ours drift m", "rapier drift m"
@@ -172,6 +232,32 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool) -> Result<()> {
                 "{:<14} {:>8} {:>10.3} {:>10.3} {:>8.2} {:>14.4} {:>16.4}",
                 r.scene,
                 r.sleeping,
+                r.ours_ms,
+                r.rapier_ms,
+                r.ratio,
+                r.ours_max_drift_m,
+                r.rapier_max_drift_m
+            );
+        }
+        println!();
+        println!("sleeping off, rapier with the scene's solver settings (iterations = our substeps, our contact Hz)");
+        println!(
+            "{:<14} {:>10} {:>8} {:>10} {:>10} {:>8} {:>14} {:>16}",
+            "scene",
+            "iterations",
+            "Hz",
+            "ours ms",
+            "rapier ms",
+            "ratio",
+            "ours drift m",
+            "rapier drift m"
+        );
+        for r in &matched {
+            println!(
+                "{:<14} {:>10} {:>8.0} {:>10.3} {:>10.3} {:>8.2} {:>14.4} {:>16.4}",
+                r.scene,
+                r.rapier_iterations,
+                r.rapier_contact_hertz,
                 r.ours_ms,
                 r.rapier_ms,
                 r.ratio,

@@ -115,6 +115,8 @@ pub struct SolverOverrides {
     pub contact_hertz: Option<f64>,
     /// Rigid contacts (position bias) instead of soft ones.
     pub rigid: bool,
+    /// Contacts solved one by one (no colouring, no four-lane groups).
+    pub scalar_contacts: bool,
 }
 
 /// `vphys bench`: ms per step and the drift of the boxes, as one JSON object.
@@ -139,6 +141,9 @@ pub fn bench(
     if overrides.rigid {
         w.settings.soft_contacts = false;
     }
+    if overrides.scalar_contacts {
+        w.settings.batch_contacts = false;
+    }
     let n = steps.or(s.steps).unwrap_or(600);
     let start = w.bodies.pos.clone();
     let t = time_steps(&mut w, n, true)?;
@@ -152,6 +157,7 @@ pub fn bench(
         "max_penetration_m": w.max_penetration(),
         "substeps": w.settings.substeps, "contact_hertz": w.settings.contact_hertz,
         "soft_contacts": w.settings.soft_contacts,
+        "batch_contacts": w.settings.batch_contacts,
     });
     println!("{out}");
     Ok(())

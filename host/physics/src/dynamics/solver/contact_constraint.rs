@@ -39,12 +39,23 @@ impl Default for ContactSettings {
     }
 }
 
+/// What one Gauss–Seidel pass over the contacts does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SolvePass {
+    /// Push overlapping points out with the soft position bias (the substep's solve pass);
+    /// false in the relax pass, which removes the push-out velocity again.
+    pub use_bias: bool,
+    /// Walk the points backwards: alternating the direction between passes keeps the
+    /// Gauss–Seidel order from tilting a resting box one way step after step.
+    pub reverse: bool,
+}
+
 /// One row along a direction `d` at a point: each body's `I⁻¹ (r × d)` and the effective mass.
 #[derive(Clone, Copy, Debug, Default)]
-struct Row {
-    ia: V3,
-    ib: V3,
-    mass: f64,
+pub(super) struct Row {
+    pub(super) ia: V3,
+    pub(super) ib: V3,
+    pub(super) mass: f64,
 }
 
 impl Row {
@@ -64,18 +75,18 @@ impl Row {
 }
 
 #[derive(Clone, Copy, Debug, Default)]
-struct PointConstraint {
-    ra: V3,
-    rb: V3,
-    n: Row,
-    t: [Row; 2],
+pub(super) struct PointConstraint {
+    pub(super) ra: V3,
+    pub(super) rb: V3,
+    pub(super) n: Row,
+    pub(super) t: [Row; 2],
     /// Separation at the start of the step (m).
-    separation: f64,
+    pub(super) separation: f64,
     /// Normal relative velocity at the start of the step (m/s), for restitution.
-    relative_velocity: f64,
-    normal_impulse: f64,
-    tangent_impulse: [f64; 2],
-    max_normal_impulse: f64,
+    pub(super) relative_velocity: f64,
+    pub(super) normal_impulse: f64,
+    pub(super) tangent_impulse: [f64; 2],
+    pub(super) max_normal_impulse: f64,
 }
 
 /// The constraint of one manifold.
@@ -87,22 +98,22 @@ pub struct ContactConstraint {
     pub b: usize,
     /// Index of the manifold it came from.
     pub manifold: usize,
-    normal: V3,
-    tangents: [V3; 2],
-    ima: f64,
-    imb: f64,
+    pub(super) normal: V3,
+    pub(super) tangents: [V3; 2],
+    pub(super) ima: f64,
+    pub(super) imb: f64,
     ia: M3,
     ib: M3,
-    friction: f64,
+    pub(super) friction: f64,
     restitution: f64,
     /// Largest rolling-resistance torque per unit normal impulse (m): coefficient × radius.
-    rolling_arm: f64,
+    pub(super) rolling_arm: f64,
     rolling_mass: M3,
     rolling_impulse: V3,
     /// Whether one body cannot move (stiffer softness).
     pub against_static: bool,
-    len: usize,
-    points: [PointConstraint; MAX_MANIFOLD_POINTS],
+    pub(super) len: usize,
+    pub(super) points: [PointConstraint; MAX_MANIFOLD_POINTS],
 }
 
 /// A unit vector orthogonal to `n` and a second completing the right-handed basis.
@@ -260,21 +271,17 @@ impl ContactConstraint {
         }
     }
 
-    /// One pass over the points: normal (with position bias when `use_bias`), friction,
-    /// rolling resistance. `inv_h` = 1 / substep (1/s).
-    ///
-    /// `reverse` walks the points backwards: alternating the direction between passes keeps
-    /// the Gauss–Seidel order from tilting a resting box one way step after step.
-    #[allow(clippy::too_many_arguments)]
+    /// One pass over the points: normal (with position bias in the substep's solve pass),
+    /// friction, rolling resistance. `inv_h` = 1 / substep (1/s).
     pub fn solve(
         &mut self,
         bodies: &mut BodySet,
         soft: &Softness,
         inv_h: f64,
-        use_bias: bool,
         max_push: f64,
-        reverse: bool,
+        pass: SolvePass,
     ) {
+        let SolvePass { use_bias, reverse } = pass;
         let (a, b) = (self.a, self.b);
         let n = self.normal;
         let (ima, imb) = (self.ima, self.imb);

@@ -10,10 +10,13 @@
 //! the substeps update each contact's separation from the bodies' linearised motion
 //! (`dp + dθ × r`) instead of re-running collision.
 
+pub mod contact_batch;
 pub mod contact_constraint;
 pub mod joint_constraint;
+pub mod lanes;
 pub mod softness;
 
-pub use contact_constraint::{ContactConstraint, ContactSettings};
+pub use contact_batch::ContactBatches;
+pub use contact_constraint::{ContactConstraint, ContactSettings, SolvePass};
 pub use joint_constraint::{FreeJoint, FreeJointKind};
 pub use softness::Softness;

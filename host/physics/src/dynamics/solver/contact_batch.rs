@@ -1,0 +1,555 @@
+//! Contact constraints solved four at a time.
+//!
+//! Graph colouring (as Box2D v3's solver sets): each constraint takes the first colour in which
+//! neither of its moving bodies is used yet, so the constraints of one colour share no moving
+//! body and can be solved side by side — four per [`ContactGroup`], one per [`Lanes`] lane —
+//! without changing what Gauss–Seidel computes: the colours run one after the other, and within
+//! a colour the order does not matter. The rows, the soft step and the friction cone are those
+//! of [`ContactConstraint::solve`], lane by lane.
+//!
+//! Constraints with rolling resistance, and those no colour can take, stay scalar: the caller
+//! solves [`ContactBatches::scalar`] with [`ContactConstraint::solve`] in the same pass.
+//!
+//! On x86-64 the same code also runs compiled for AVX2 when the processor has it (detected
+//! once); both copies compute the same bits (no fused multiply–add is ever formed).
+
+use super::contact_constraint::LINEAR_SLOP;
+use super::lanes::{LaneV3, Lanes, WIDTH};
+use super::{ContactConstraint, Softness, SolvePass};
+use crate::dynamics::BodySet;
+use crate::geometry::{MAX_MANIFOLD_POINTS, V3};
+
+/// Colours tried before a constraint is left to the scalar solve.
+const MAX_COLOURS: usize = 24;
+
+/// One row of four constraints' points.
+#[derive(Clone, Copy, Debug, Default)]
+struct RowLanes {
+    ia: LaneV3,
+    ib: LaneV3,
+    mass: Lanes,
+}
+
+/// The `k`-th point of four constraints.
+#[derive(Clone, Copy, Debug, Default)]
+struct PointLanes {
+    ra: LaneV3,
+    rb: LaneV3,
+    n: RowLanes,
+    t: [RowLanes; 2],
+    separation: Lanes,
+    normal_impulse: Lanes,
+    tangent_impulse: [Lanes; 2],
+    max_normal_impulse: Lanes,
+}
+
+/// Four constraints of one colour (fewer in the last group of a colour: `lanes`).
+#[derive(Clone, Debug, Default)]
+struct ContactGroup {
+    /// Constraint index of each lane.
+    constraint: [usize; WIDTH],
+    a: [usize; WIDTH],
+    b: [usize; WIDTH],
+    lanes: usize,
+    normal: LaneV3,
+    tangents: [LaneV3; 2],
+    ima: Lanes,
+    imb: Lanes,
+    friction: Lanes,
+    bias_rate: Lanes,
+    mass_scale: Lanes,
+    impulse_scale: Lanes,
+    points: [PointLanes; MAX_MANIFOLD_POINTS],
+}
+
+/// The velocity state of the two bodies of every lane.
+struct BodyLanes {
+    va: LaneV3,
+    wa: LaneV3,
+    vb: LaneV3,
+    wb: LaneV3,
+}
+
+#[inline(always)]
+fn gather(v: &[V3], idx: &[usize; WIDTH], lanes: usize) -> LaneV3 {
+    let mut r = LaneV3::default();
+    for (l, &i) in idx.iter().enumerate().take(lanes) {
+        r.set(l, v[i].into());
+    }
+    r
+}
+
+#[inline(always)]
+fn scatter(v: &mut [V3], idx: &[usize; WIDTH], lanes: usize, x: &LaneV3) {
+    for (l, &i) in idx.iter().enumerate().take(lanes) {
+        v[i] = x.get(l).into();
+    }
+}
+
+impl ContactGroup {
+    fn new(
+        constraints: &[ContactConstraint],
+        members: &[usize],
+        soft: &Softness,
+        hard: &Softness,
+    ) -> Self {
+        let mut g = ContactGroup {
+            lanes: members.len(),
+            ..Default::default()
+        };
+        for (l, &ci) in members.iter().enumerate() {
+            let c = &constraints[ci];
+            g.constraint[l] = ci;
+            g.a[l] = c.a;
+            g.b[l] = c.b;
+            g.normal.set(l, c.normal.into());
+            g.tangents[0].set(l, c.tangents[0].into());
+            g.tangents[1].set(l, c.tangents[1].into());
+            g.ima.0[l] = c.ima;
+            g.imb.0[l] = c.imb;
+            g.friction.0[l] = c.friction;
+            let s = if c.against_static { hard } else { soft };
+            g.bias_rate.0[l] = s.bias_rate;
+            g.mass_scale.0[l] = s.mass_scale;
+            g.impulse_scale.0[l] = s.impulse_scale;
+            for (pl, pc) in g.points.iter_mut().zip(&c.points[..c.len]) {
+                pl.ra.set(l, pc.ra.into());
+                pl.rb.set(l, pc.rb.into());
+                pl.n.ia.set(l, pc.n.ia.into());
+                pl.n.ib.set(l, pc.n.ib.into());
+                pl.n.mass.0[l] = pc.n.mass;
+                for k in 0..2 {
+                    pl.t[k].ia.set(l, pc.t[k].ia.into());
+                    pl.t[k].ib.set(l, pc.t[k].ib.into());
+                    pl.t[k].mass.0[l] = pc.t[k].mass;
+                    pl.tangent_impulse[k].0[l] = pc.tangent_impulse[k];
+                }
+                pl.separation.0[l] = pc.separation;
+                pl.normal_impulse.0[l] = pc.normal_impulse;
+                pl.max_normal_impulse.0[l] = pc.max_normal_impulse;
+            }
+            // Points past `len` stay zero: zero mass, zero impulse — rows that change nothing.
+        }
+        g
+    }
+
+    #[inline(always)]
+    fn load(&self, b: &BodySet) -> BodyLanes {
+        BodyLanes {
+            va: gather(&b.vel, &self.a, self.lanes),
+            wa: gather(&b.omega, &self.a, self.lanes),
+            vb: gather(&b.vel, &self.b, self.lanes),
+            wb: gather(&b.omega, &self.b, self.lanes),
+        }
+    }
+
+    /// Writes the lanes' velocities back. A fixed or sleeping body shared by several lanes
+    /// gets its unchanged velocity back from each (its inverse mass is zero here).
+    #[inline(always)]
+    fn store(&self, b: &mut BodySet, s: &BodyLanes) {
+        scatter(&mut b.vel, &self.a, self.lanes, &s.va);
+        scatter(&mut b.omega, &self.a, self.lanes, &s.wa);
+        scatter(&mut b.vel, &self.b, self.lanes, &s.vb);
+        scatter(&mut b.omega, &self.b, self.lanes, &s.wb);
+    }
+
+    #[inline(always)]
+    fn apply(&self, s: &mut BodyLanes, p: &LaneV3, ia: &LaneV3, ib: &LaneV3) {
+        s.va -= p.scale(self.ima);
+        s.wa -= *ia;
+        s.vb += p.scale(self.imb);
+        s.wb += *ib;
+    }
+
+    #[inline(always)]
+    fn warm_start(&self, bodies: &mut BodySet) {
+        let mut s = self.load(bodies);
+        for pl in &self.points {
+            let p = self.normal.scale(pl.normal_impulse)
+                + self.tangents[0].scale(pl.tangent_impulse[0])
+                + self.tangents[1].scale(pl.tangent_impulse[1]);
+            let ia = pl.n.ia.scale(pl.normal_impulse)
+                + pl.t[0].ia.scale(pl.tangent_impulse[0])
+                + pl.t[1].ia.scale(pl.tangent_impulse[1]);
+            let ib = pl.n.ib.scale(pl.normal_impulse)
+                + pl.t[0].ib.scale(pl.tangent_impulse[0])
+                + pl.t[1].ib.scale(pl.tangent_impulse[1]);
+            self.apply(&mut s, &p, &ia, &ib);
+        }
+        self.store(bodies, &s);
+    }
+
+    #[inline(always)]
+    fn solve(&mut self, bodies: &mut BodySet, inv_h: f64, max_push: f64, pass: SolvePass) {
+        let mut s = self.load(bodies);
+        let d_lin =
+            gather(&bodies.dp, &self.b, self.lanes) - gather(&bodies.dp, &self.a, self.lanes);
+        let dta = gather(&bodies.dtheta, &self.a, self.lanes);
+        let dtb = gather(&bodies.dtheta, &self.b, self.lanes);
+        let n = self.normal;
+        let (zero, one) = (Lanes::splat(0.0), Lanes::splat(1.0));
+        let inv_h = Lanes::splat(inv_h);
+        let order = |i: usize| {
+            if pass.reverse {
+                MAX_MANIFOLD_POINTS - 1 - i
+            } else {
+                i
+            }
+        };
+        for i in 0..MAX_MANIFOLD_POINTS {
+            let pl = &mut self.points[order(i)];
+            let d = d_lin + dtb.cross(&pl.rb) - dta.cross(&pl.ra);
+            let sep = n.dot(&d) + pl.separation;
+            let ahead = sep.gt(zero);
+            let (bias, ms, is) = if pass.use_bias {
+                let pushed = (self.bias_rate * (sep + Lanes::splat(LINEAR_SLOP)).min(zero))
+                    .max(Lanes::splat(-max_push));
+                (
+                    ahead.select(sep * inv_h, pushed),
+                    ahead.select(one, self.mass_scale),
+                    ahead.select(zero, self.impulse_scale),
+                )
+            } else {
+                (ahead.select(sep * inv_h, zero), one, zero)
+            };
+            let dv = s.vb + s.wb.cross(&pl.rb) - s.va - s.wa.cross(&pl.ra);
+            let vn = n.dot(&dv);
+            let imp = -(pl.n.mass * ms * (vn + bias)) - is * pl.normal_impulse;
+            let new = (pl.normal_impulse + imp).max(zero);
+            let delta = new - pl.normal_impulse;
+            pl.normal_impulse = new;
+            pl.max_normal_impulse = pl.max_normal_impulse.max(delta);
+            let p = n.scale(delta);
+            let (ia, ib) = (pl.n.ia.scale(delta), pl.n.ib.scale(delta));
+            self.apply(&mut s, &p, &ia, &ib);
+        }
+        {
+            let [t0, t1] = self.tangents;
+            for i in 0..MAX_MANIFOLD_POINTS {
+                let pl = &mut self.points[order(i)];
+                let l0 = pl.tangent_impulse;
+                let dv = s.vb + s.wb.cross(&pl.rb) - s.va - s.wa.cross(&pl.ra);
+                let l = [
+                    l0[0] - pl.t[0].mass * t0.dot(&dv),
+                    l0[1] - pl.t[1].mass * t1.dot(&dv),
+                ];
+                // Coulomb cone: |λt| ≤ μ λn (a point with no normal impulse gets none).
+                let max = self.friction * pl.normal_impulse;
+                let len2 = l[0] * l[0] + l[1] * l[1];
+                // Where the cone clips, len2 > max² ≥ 0; elsewhere the quotient is not used.
+                let scale = len2.gt(max * max).select(max / len2.sqrt(), one);
+                let l = [l[0] * scale, l[1] * scale];
+                let d = [l[0] - l0[0], l[1] - l0[1]];
+                pl.tangent_impulse = l;
+                let p = t0.scale(d[0]) + t1.scale(d[1]);
+                let ia = pl.t[0].ia.scale(d[0]) + pl.t[1].ia.scale(d[1]);
+                let ib = pl.t[0].ib.scale(d[0]) + pl.t[1].ib.scale(d[1]);
+                self.apply(&mut s, &p, &ia, &ib);
+            }
+        }
+        self.store(bodies, &s);
+    }
+
+    /// Copies the accumulated impulses back into the constraints.
+    fn write_back(&self, constraints: &mut [ContactConstraint]) {
+        for l in 0..self.lanes {
+            let c = &mut constraints[self.constraint[l]];
+            let len = c.len;
+            for (pc, pl) in c.points[..len].iter_mut().zip(&self.points) {
+                pc.normal_impulse = pl.normal_impulse.0[l];
+                pc.tangent_impulse = [pl.tangent_impulse[0].0[l], pl.tangent_impulse[1].0[l]];
+                pc.max_normal_impulse = pl.max_normal_impulse.0[l];
+            }
+        }
+    }
+}
+
+/// The step's contact constraints, coloured and grouped four by four.
+#[derive(Debug, Default)]
+pub struct ContactBatches {
+    groups: Vec<ContactGroup>,
+    /// Constraints solved one at a time (rolling resistance, or no colour free).
+    pub scalar: Vec<usize>,
+    /// Colours used in the last build.
+    pub colours: usize,
+    used: Vec<Vec<u64>>,
+    members: Vec<Vec<usize>>,
+    avx2: Option<bool>,
+}
+
+impl ContactBatches {
+    /// Colours and groups `constraints`; `soft` and `hard` are the softness of contacts between
+    /// two moving bodies and against a body that does not move.
+    pub fn build(
+        &mut self,
+        constraints: &[ContactConstraint],
+        n_bodies: usize,
+        soft: &Softness,
+        hard: &Softness,
+    ) {
+        self.groups.clear();
+        self.scalar.clear();
+        self.colours = 0;
+        let words = n_bodies.div_ceil(64);
+        if self.used.len() < MAX_COLOURS {
+            self.used.resize(MAX_COLOURS, Vec::new());
+            self.members.resize(MAX_COLOURS, Vec::new());
+        }
+        for (u, m) in self.used.iter_mut().zip(&mut self.members) {
+            u.clear();
+            u.resize(words, 0);
+            m.clear();
+        }
+        let bit = |i: usize| (i / 64, 1u64 << (i % 64));
+        for (ci, c) in constraints.iter().enumerate() {
+            if c.rolling_arm > 0.0 {
+                self.scalar.push(ci);
+                continue;
+            }
+            let moving_a = (c.ima > 0.0).then(|| bit(c.a));
+            let moving_b = (c.imb > 0.0).then(|| bit(c.b));
+            let free = |u: &Vec<u64>| {
+                moving_a.is_none_or(|(w, m)| u[w] & m == 0)
+                    && moving_b.is_none_or(|(w, m)| u[w] & m == 0)
+            };
+            match self.used.iter().position(free) {
+                Some(k) => {
+                    let u = &mut self.used[k];
+                    for (w, m) in [moving_a, moving_b].into_iter().flatten() {
+                        u[w] |= m;
+                    }
+                    self.members[k].push(ci);
+                    self.colours = self.colours.max(k + 1);
+                }
+                None => self.scalar.push(ci),
+            }
+        }
+        for m in &self.members[..self.colours] {
+            for chunk in m.chunks(WIDTH) {
+                self.groups
+                    .push(ContactGroup::new(constraints, chunk, soft, hard));
+            }
+        }
+    }
+
+    /// Number of four-lane groups.
+    pub fn groups(&self) -> usize {
+        self.groups.len()
+    }
+
+    fn use_avx2(&mut self) -> bool {
+        *self.avx2.get_or_insert_with(|| {
+            #[cfg(target_arch = "x86_64")]
+            {
+                std::arch::is_x86_feature_detected!("avx2")
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            {
+                false
+            }
+        })
+    }
+
+    /// Applies every group's accumulated impulses (warm start).
+    pub fn warm_start(&mut self, bodies: &mut BodySet) {
+        #[cfg(target_arch = "x86_64")]
+        if self.use_avx2() {
+            // SAFETY: the processor has AVX2 (checked by `use_avx2`).
+            unsafe { warm_start_avx2(&self.groups, bodies) };
+            return;
+        }
+        warm_start_all(&self.groups, bodies);
+    }
+
+    /// One pass over the groups (see [`ContactConstraint::solve`]).
+    pub fn solve(&mut self, bodies: &mut BodySet, inv_h: f64, max_push: f64, pass: SolvePass) {
+        #[cfg(target_arch = "x86_64")]
+        if self.use_avx2() {
+            // SAFETY: the processor has AVX2 (checked by `use_avx2`).
+            unsafe { solve_avx2(&mut self.groups, bodies, inv_h, max_push, pass) };
+            return;
+        }
+        solve_all(&mut self.groups, bodies, inv_h, max_push, pass);
+    }
+
+    /// Copies the accumulated impulses back into `constraints` (before restitution and the
+    /// manifolds' warm-start store).
+    pub fn write_back(&self, constraints: &mut [ContactConstraint]) {
+        for g in &self.groups {
+            g.write_back(constraints);
+        }
+    }
+}
+
+#[inline(always)]
+fn warm_start_all(groups: &[ContactGroup], bodies: &mut BodySet) {
+    for g in groups {
+        g.warm_start(bodies);
+    }
+}
+
+#[inline(always)]
+fn solve_all(
+    groups: &mut [ContactGroup],
+    bodies: &mut BodySet,
+    inv_h: f64,
+    max_push: f64,
+    pass: SolvePass,
+) {
+    for g in groups {
+        g.solve(bodies, inv_h, max_push, pass);
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn warm_start_avx2(groups: &[ContactGroup], bodies: &mut BodySet) {
+    warm_start_all(groups, bodies);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn solve_avx2(
+    groups: &mut [ContactGroup],
+    bodies: &mut BodySet,
+    inv_h: f64,
+    max_push: f64,
+    pass: SolvePass,
+) {
+    solve_all(groups, bodies, inv_h, max_push, pass);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::{BodyKind, Material};
+    use crate::geometry::{Manifold, Shape, M3};
+    use crate::dynamics::solver::ContactSettings;
+
+    /// `n` unit boxes in a row along x, 1.0 m apart (touching), the first one fixed, with
+    /// some velocity so that every row of the solve does something.
+    fn bodies(n: usize) -> BodySet {
+        let mut b = BodySet::default();
+        for i in 0..n {
+            let kind = if i == 0 {
+                BodyKind::Fixed
+            } else {
+                BodyKind::Dynamic
+            };
+            let k = i as f64;
+            b.push(
+                String::new(),
+                kind,
+                Shape::Cuboid {
+                    half: V3::new(0.5, 0.5, 0.5),
+                },
+                Material::default(),
+                1.0 + 0.3 * k,
+                V3::new(k, 0.0, 0.0),
+                M3::identity(),
+                V3::new(-0.4 * k, 0.2, 0.1 * k),
+                V3::new(0.3, -0.2 * k, 0.5),
+            );
+            b.dp[i] = V3::new(0.001 * k, 0.0, -0.0005);
+        }
+        b.update_world_inertia();
+        b
+    }
+
+    /// The face contact between boxes `i` and `i + 1`: four corners, slightly overlapping,
+    /// with impulses carried from a previous step.
+    fn manifold(i: usize) -> Manifold {
+        let mut m = Manifold::new(i as u32, i as u32 + 1);
+        m.normal = V3::x();
+        for (k, (y, z)) in [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)]
+            .into_iter()
+            .enumerate()
+        {
+            m.push(V3::new(i as f64 + 0.5, y, z), -0.001 * k as f64);
+            m.points[k].normal_impulse = 0.01 * k as f64;
+            m.points[k].tangent_impulse = [0.002, -0.001 * k as f64];
+        }
+        m
+    }
+
+    fn constraints(b: &BodySet, n: usize) -> Vec<ContactConstraint> {
+        (0..n - 1)
+            .map(|i| ContactConstraint::prepare(b, &manifold(i), i, &ContactSettings::default()))
+            .collect()
+    }
+
+    #[test]
+    fn a_colour_never_holds_two_constraints_of_one_moving_body() {
+        let n = 40;
+        let b = bodies(n);
+        let c = constraints(&b, n);
+        let soft = Softness::new(120.0, 10.0, 1.0 / 720.0);
+        let mut batches = ContactBatches::default();
+        batches.build(&c, n, &soft, &soft);
+        // A chain needs two colours; every constraint is in exactly one group.
+        assert_eq!(batches.colours, 2);
+        assert!(batches.scalar.is_empty());
+        let mut seen = vec![0; c.len()];
+        for g in &batches.groups {
+            let mut moving: Vec<usize> = Vec::new();
+            for l in 0..g.lanes {
+                seen[g.constraint[l]] += 1;
+                for (body, im) in [(g.a[l], g.ima.0[l]), (g.b[l], g.imb.0[l])] {
+                    if im > 0.0 {
+                        moving.push(body);
+                    }
+                }
+            }
+            let before = moving.len();
+            moving.sort_unstable();
+            moving.dedup();
+            assert_eq!(moving.len(), before, "a body twice in one group");
+        }
+        assert!(seen.iter().all(|&k| k == 1));
+    }
+
+    #[test]
+    fn a_group_computes_what_the_scalar_solve_computes() {
+        // Independent constraints (one per pair of bodies): one group of four solves exactly
+        // what four scalar solves do, bit for bit, in both kinds of pass.
+        let n = 8;
+        let base = bodies(n);
+        let all = constraints(&base, n);
+        let pick: Vec<ContactConstraint> = [0, 2, 4, 6].iter().map(|&i| all[i]).collect();
+        let soft = Softness::new(120.0, 10.0, 1.0 / 720.0);
+        let hard = Softness::new(240.0, 10.0, 1.0 / 720.0);
+        for pass in [
+            SolvePass {
+                use_bias: true,
+                reverse: false,
+            },
+            SolvePass {
+                use_bias: false,
+                reverse: true,
+            },
+        ] {
+            let (mut scalar_bodies, mut scalar) = (base.clone(), pick.clone());
+            for c in &mut scalar {
+                let s = if c.against_static { &hard } else { &soft };
+                c.solve(&mut scalar_bodies, s, 720.0, 3.0, pass);
+            }
+            let (mut batch_bodies, mut batched) = (base.clone(), pick.clone());
+            let mut batches = ContactBatches::default();
+            batches.build(&batched, n, &soft, &hard);
+            assert_eq!((batches.colours, batches.groups()), (1, 1));
+            batches.solve(&mut batch_bodies, 720.0, 3.0, pass);
+            batches.write_back(&mut batched);
+            assert_eq!(scalar_bodies.vel, batch_bodies.vel);
+            assert_eq!(scalar_bodies.omega, batch_bodies.omega);
+            for (s, b) in scalar.iter().zip(&batched) {
+                for (ps, pb) in s.points.iter().zip(&b.points) {
+                    assert_eq!(ps.normal_impulse, pb.normal_impulse);
+                    assert_eq!(ps.tangent_impulse, pb.tangent_impulse);
+                    assert_eq!(ps.max_normal_impulse, pb.max_normal_impulse);
+                }
+            }
+            // The pass did something.
+            assert_ne!(batch_bodies.vel, base.vel);
+        }
+    }
+}

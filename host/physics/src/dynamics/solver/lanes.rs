@@ -1,0 +1,228 @@
+//! `Lanes`: [`WIDTH`] f64 values that every operation treats alike, so that a loop over four
+//! independent contact constraints compiles to vector instructions (two SSE2 registers, or one
+//! AVX2 register where [`super::contact_batch`] runs its AVX2 copy). Written as plain per-lane
+//! loops for the compiler to vectorise; no `unsafe`, no intrinsics. Rust never fuses a multiply
+//! and an add, so every lane computes bit for bit what the scalar code would.
+
+use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
+
+/// Number of lanes.
+pub const WIDTH: usize = 4;
+
+/// Four f64 values.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(32))]
+pub struct Lanes(pub [f64; WIDTH]);
+
+/// A per-lane condition.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Mask([bool; WIDTH]);
+
+impl Lanes {
+    /// Every lane `x`.
+    #[inline(always)]
+    pub fn splat(x: f64) -> Self {
+        Self([x; WIDTH])
+    }
+
+    #[inline(always)]
+    fn map(self, f: impl Fn(f64) -> f64) -> Self {
+        let mut r = [0.0; WIDTH];
+        for (r, a) in r.iter_mut().zip(self.0) {
+            *r = f(a);
+        }
+        Self(r)
+    }
+
+    #[inline(always)]
+    fn zip(self, o: Self, f: impl Fn(f64, f64) -> f64) -> Self {
+        let mut r = [0.0; WIDTH];
+        for ((r, a), b) in r.iter_mut().zip(self.0).zip(o.0) {
+            *r = f(a, b);
+        }
+        Self(r)
+    }
+
+    /// Lane-wise maximum.
+    #[inline(always)]
+    pub fn max(self, o: Self) -> Self {
+        self.zip(o, |a, b| if a > b { a } else { b })
+    }
+
+    /// Lane-wise minimum.
+    #[inline(always)]
+    pub fn min(self, o: Self) -> Self {
+        self.zip(o, |a, b| if a < b { a } else { b })
+    }
+
+    /// Lane-wise square root.
+    #[inline(always)]
+    pub fn sqrt(self) -> Self {
+        self.map(f64::sqrt)
+    }
+
+    /// Lane-wise `self > o`.
+    #[inline(always)]
+    pub fn gt(self, o: Self) -> Mask {
+        let mut m = [false; WIDTH];
+        for ((m, a), b) in m.iter_mut().zip(self.0).zip(o.0) {
+            *m = a > b;
+        }
+        Mask(m)
+    }
+}
+
+impl Mask {
+    /// `a` where the condition holds, `b` elsewhere.
+    #[inline(always)]
+    pub fn select(self, a: Lanes, b: Lanes) -> Lanes {
+        let mut r = [0.0; WIDTH];
+        for (((r, m), a), b) in r.iter_mut().zip(self.0).zip(a.0).zip(b.0) {
+            *r = if m { a } else { b };
+        }
+        Lanes(r)
+    }
+}
+
+macro_rules! lanes_binop {
+    ($trait:ident, $f:ident, $op:tt) => {
+        impl $trait for Lanes {
+            type Output = Lanes;
+            #[inline(always)]
+            fn $f(self, o: Lanes) -> Lanes {
+                self.zip(o, |a, b| a $op b)
+            }
+        }
+    };
+}
+lanes_binop!(Add, add, +);
+lanes_binop!(Sub, sub, -);
+lanes_binop!(Mul, mul, *);
+lanes_binop!(Div, div, /);
+
+impl Neg for Lanes {
+    type Output = Lanes;
+    #[inline(always)]
+    fn neg(self) -> Lanes {
+        self.map(|a| -a)
+    }
+}
+
+/// A 3-vector per lane (structure of arrays).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LaneV3 {
+    /// x of every lane.
+    pub x: Lanes,
+    /// y of every lane.
+    pub y: Lanes,
+    /// z of every lane.
+    pub z: Lanes,
+}
+
+impl LaneV3 {
+    /// Dot product per lane.
+    #[inline(always)]
+    pub fn dot(&self, o: &Self) -> Lanes {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// Cross product per lane.
+    #[inline(always)]
+    pub fn cross(&self, o: &Self) -> Self {
+        Self {
+            x: self.y * o.z - self.z * o.y,
+            y: self.z * o.x - self.x * o.z,
+            z: self.x * o.y - self.y * o.x,
+        }
+    }
+
+    /// Scaled by a value per lane.
+    #[inline(always)]
+    pub fn scale(&self, s: Lanes) -> Self {
+        Self {
+            x: self.x * s,
+            y: self.y * s,
+            z: self.z * s,
+        }
+    }
+
+    /// Lane `l` as a vector.
+    #[inline(always)]
+    pub fn get(&self, l: usize) -> [f64; 3] {
+        [self.x.0[l], self.y.0[l], self.z.0[l]]
+    }
+
+    /// Sets lane `l`.
+    #[inline(always)]
+    pub fn set(&mut self, l: usize, v: [f64; 3]) {
+        self.x.0[l] = v[0];
+        self.y.0[l] = v[1];
+        self.z.0[l] = v[2];
+    }
+}
+
+impl Add for LaneV3 {
+    type Output = LaneV3;
+    #[inline(always)]
+    fn add(self, o: LaneV3) -> LaneV3 {
+        LaneV3 {
+            x: self.x + o.x,
+            y: self.y + o.y,
+            z: self.z + o.z,
+        }
+    }
+}
+
+impl Sub for LaneV3 {
+    type Output = LaneV3;
+    #[inline(always)]
+    fn sub(self, o: LaneV3) -> LaneV3 {
+        LaneV3 {
+            x: self.x - o.x,
+            y: self.y - o.y,
+            z: self.z - o.z,
+        }
+    }
+}
+
+impl AddAssign for LaneV3 {
+    #[inline(always)]
+    fn add_assign(&mut self, o: LaneV3) {
+        *self = *self + o;
+    }
+}
+
+impl SubAssign for LaneV3 {
+    #[inline(always)]
+    fn sub_assign(&mut self, o: LaneV3) {
+        *self = *self - o;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lanes_compute_what_scalars_do() {
+        let a = Lanes([1.0, -2.0, 3.5, 0.0]);
+        let b = Lanes([0.5, 4.0, -1.0, 0.0]);
+        assert_eq!((a + b).0, [1.5, 2.0, 2.5, 0.0]);
+        assert_eq!((a * b - a).0, [-0.5, -6.0, -7.0, 0.0]);
+        assert_eq!(a.max(b).0, [1.0, 4.0, 3.5, 0.0]);
+        assert_eq!(a.min(b).0, [0.5, -2.0, -1.0, 0.0]);
+        assert_eq!(a.gt(b).select(a, -b).0, [1.0, -4.0, 3.5, -0.0]);
+        let u = LaneV3 {
+            x: Lanes::splat(1.0),
+            y: Lanes::splat(0.0),
+            z: Lanes::splat(0.0),
+        };
+        let v = LaneV3 {
+            x: Lanes::splat(0.0),
+            y: a,
+            z: Lanes::splat(0.0),
+        };
+        assert_eq!(u.cross(&v).z.0, a.0);
+        assert_eq!(u.cross(&v).dot(&u.cross(&v)).0, (a * a).0);
+    }
+}
