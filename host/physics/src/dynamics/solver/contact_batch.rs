@@ -13,7 +13,7 @@
 //! On x86-64 the same code also runs compiled for AVX2 when the processor has it (detected
 //! once); both copies compute the same bits (no fused multiply–add is ever formed).
 
-use super::contact_constraint::LINEAR_SLOP;
+use super::contact_constraint::{PointConstraint, LINEAR_SLOP};
 use super::lanes::{LaneV3, Lanes, WIDTH};
 use super::{ContactConstraint, Softness, SolvePass};
 use crate::dynamics::BodySet;
@@ -86,51 +86,63 @@ fn scatter(v: &mut [V3], idx: &[usize; WIDTH], lanes: usize, x: &LaneV3) {
     }
 }
 
+impl PointLanes {
+    /// Lane `l` from a point, or zeros (a row that changes nothing) for `None`.
+    fn set_lane(&mut self, l: usize, pc: Option<&PointConstraint>) {
+        let zero = PointConstraint::default();
+        let pc = pc.unwrap_or(&zero);
+        self.ra.set(l, pc.ra.into());
+        self.rb.set(l, pc.rb.into());
+        self.n.ia.set(l, pc.n.ia.into());
+        self.n.ib.set(l, pc.n.ib.into());
+        self.n.mass.0[l] = pc.n.mass;
+        for k in 0..2 {
+            self.t[k].ia.set(l, pc.t[k].ia.into());
+            self.t[k].ib.set(l, pc.t[k].ib.into());
+            self.t[k].mass.0[l] = pc.t[k].mass;
+            self.tangent_impulse[k].0[l] = pc.tangent_impulse[k];
+        }
+        self.separation.0[l] = pc.separation;
+        self.normal_impulse.0[l] = pc.normal_impulse;
+        self.max_normal_impulse.0[l] = pc.max_normal_impulse;
+    }
+}
+
 impl ContactGroup {
-    fn new(
+    /// Fills the group in place (its buffers are reused step after step) with the
+    /// constraints `members` (at most [`WIDTH`]); unused lanes and points become zeros.
+    fn fill(
+        &mut self,
         constraints: &[ContactConstraint],
         members: &[usize],
         soft: &Softness,
         hard: &Softness,
-    ) -> Self {
-        let mut g = ContactGroup {
-            lanes: members.len(),
-            ..Default::default()
-        };
-        for (l, &ci) in members.iter().enumerate() {
-            let c = &constraints[ci];
-            g.constraint[l] = ci;
-            g.a[l] = c.a;
-            g.b[l] = c.b;
-            g.normal.set(l, c.normal.into());
-            g.tangents[0].set(l, c.tangents[0].into());
-            g.tangents[1].set(l, c.tangents[1].into());
-            g.ima.0[l] = c.ima;
-            g.imb.0[l] = c.imb;
-            g.friction.0[l] = c.friction;
-            let s = if c.against_static { hard } else { soft };
-            g.bias_rate.0[l] = s.bias_rate;
-            g.mass_scale.0[l] = s.mass_scale;
-            g.impulse_scale.0[l] = s.impulse_scale;
-            for (pl, pc) in g.points.iter_mut().zip(&c.points[..c.len]) {
-                pl.ra.set(l, pc.ra.into());
-                pl.rb.set(l, pc.rb.into());
-                pl.n.ia.set(l, pc.n.ia.into());
-                pl.n.ib.set(l, pc.n.ib.into());
-                pl.n.mass.0[l] = pc.n.mass;
-                for k in 0..2 {
-                    pl.t[k].ia.set(l, pc.t[k].ia.into());
-                    pl.t[k].ib.set(l, pc.t[k].ib.into());
-                    pl.t[k].mass.0[l] = pc.t[k].mass;
-                    pl.tangent_impulse[k].0[l] = pc.tangent_impulse[k];
-                }
-                pl.separation.0[l] = pc.separation;
-                pl.normal_impulse.0[l] = pc.normal_impulse;
-                pl.max_normal_impulse.0[l] = pc.max_normal_impulse;
+    ) {
+        self.lanes = members.len();
+        for l in 0..WIDTH {
+            let c = members.get(l).map(|&ci| (ci, &constraints[ci]));
+            let (ci, a, b) = c.map_or((0, 0, 0), |(ci, c)| (ci, c.a, c.b));
+            self.constraint[l] = ci;
+            self.a[l] = a;
+            self.b[l] = b;
+            let c = c.map(|(_, c)| c);
+            let v = |f: fn(&ContactConstraint) -> V3| c.map_or([0.0; 3], |c| f(c).into());
+            self.normal.set(l, v(|c| c.normal));
+            self.tangents[0].set(l, v(|c| c.tangents[0]));
+            self.tangents[1].set(l, v(|c| c.tangents[1]));
+            let x = |f: fn(&ContactConstraint) -> f64| c.map_or(0.0, f);
+            self.ima.0[l] = x(|c| c.ima);
+            self.imb.0[l] = x(|c| c.imb);
+            self.friction.0[l] = x(|c| c.friction);
+            let s = c.map_or(soft, |c| if c.against_static { hard } else { soft });
+            self.bias_rate.0[l] = s.bias_rate;
+            self.mass_scale.0[l] = s.mass_scale;
+            self.impulse_scale.0[l] = s.impulse_scale;
+            let points = c.map_or(&[][..], |c| &c.points[..c.len]);
+            for (k, pl) in self.points.iter_mut().enumerate() {
+                pl.set_lane(l, points.get(k));
             }
-            // Points past `len` stay zero: zero mass, zero impulse — rows that change nothing.
         }
-        g
     }
 
     #[inline(always)]
@@ -267,7 +279,9 @@ impl ContactGroup {
 /// The step's contact constraints, coloured and grouped four by four.
 #[derive(Debug, Default)]
 pub struct ContactBatches {
+    /// Group buffers, kept across steps; the first `live` are this step's.
     groups: Vec<ContactGroup>,
+    live: usize,
     /// Constraints solved one at a time (rolling resistance, or no colour free).
     pub scalar: Vec<usize>,
     /// Colours used in the last build.
@@ -287,7 +301,7 @@ impl ContactBatches {
         soft: &Softness,
         hard: &Softness,
     ) {
-        self.groups.clear();
+        self.live = 0;
         self.scalar.clear();
         self.colours = 0;
         let words = n_bodies.div_ceil(64);
@@ -324,17 +338,25 @@ impl ContactBatches {
                 None => self.scalar.push(ci),
             }
         }
+        let count: usize = self.members[..self.colours]
+            .iter()
+            .map(|m| m.len().div_ceil(WIDTH))
+            .sum();
+        if self.groups.len() < count {
+            self.groups.resize_with(count, Default::default);
+        }
+        let mut groups = self.groups.iter_mut();
         for m in &self.members[..self.colours] {
-            for chunk in m.chunks(WIDTH) {
-                self.groups
-                    .push(ContactGroup::new(constraints, chunk, soft, hard));
+            for (chunk, g) in m.chunks(WIDTH).zip(groups.by_ref()) {
+                g.fill(constraints, chunk, soft, hard);
             }
         }
+        self.live = count;
     }
 
     /// Number of four-lane groups.
     pub fn groups(&self) -> usize {
-        self.groups.len()
+        self.live
     }
 
     fn use_avx2(&mut self) -> bool {
@@ -355,10 +377,10 @@ impl ContactBatches {
         #[cfg(target_arch = "x86_64")]
         if self.use_avx2() {
             // SAFETY: the processor has AVX2 (checked by `use_avx2`).
-            unsafe { warm_start_avx2(&self.groups, bodies) };
+            unsafe { warm_start_avx2(&self.groups[..self.live], bodies) };
             return;
         }
-        warm_start_all(&self.groups, bodies);
+        warm_start_all(&self.groups[..self.live], bodies);
     }
 
     /// One pass over the groups (see [`ContactConstraint::solve`]).
@@ -366,16 +388,16 @@ impl ContactBatches {
         #[cfg(target_arch = "x86_64")]
         if self.use_avx2() {
             // SAFETY: the processor has AVX2 (checked by `use_avx2`).
-            unsafe { solve_avx2(&mut self.groups, bodies, inv_h, max_push, pass) };
+            unsafe { solve_avx2(&mut self.groups[..self.live], bodies, inv_h, max_push, pass) };
             return;
         }
-        solve_all(&mut self.groups, bodies, inv_h, max_push, pass);
+        solve_all(&mut self.groups[..self.live], bodies, inv_h, max_push, pass);
     }
 
     /// Copies the accumulated impulses back into `constraints` (before restitution and the
     /// manifolds' warm-start store).
     pub fn write_back(&self, constraints: &mut [ContactConstraint]) {
-        for g in &self.groups {
+        for g in &self.groups[..self.live] {
             g.write_back(constraints);
         }
     }
@@ -422,9 +444,9 @@ unsafe fn solve_avx2(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamics::solver::ContactSettings;
     use crate::dynamics::{BodyKind, Material};
     use crate::geometry::{Manifold, Shape, M3};
-    use crate::dynamics::solver::ContactSettings;
 
     /// `n` unit boxes in a row along x, 1.0 m apart (touching), the first one fixed, with
     /// some velocity so that every row of the solve does something.
@@ -490,7 +512,7 @@ mod tests {
         assert_eq!(batches.colours, 2);
         assert!(batches.scalar.is_empty());
         let mut seen = vec![0; c.len()];
-        for g in &batches.groups {
+        for g in &batches.groups[..batches.live] {
             let mut moving: Vec<usize> = Vec::new();
             for l in 0..g.lanes {
                 seen[g.constraint[l]] += 1;
