@@ -73,6 +73,7 @@ pub fn run(scene: &str, steps: Option<u64>, sleeping: Option<bool>, every: u64) 
                 "max_displacement": dh.max(dv), "max_horizontal_displacement": dh,
                 "stages": stages, "pairs_tested": c.pairs_tested, "contacts": c.contacts,
                 "solver_iterations": c.solver_iterations, "awake": c.awake_bodies,
+                "contact_colours": c.contact_colours, "contact_groups": c.contact_groups,
             });
             pb.suspend(|| println!("{line}"));
         }
