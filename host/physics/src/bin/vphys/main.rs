@@ -69,6 +69,9 @@ enum Cmd {
         /// Solve the contacts one by one instead of four at a time.
         #[arg(long)]
         scalar_contacts: bool,
+        /// Override the cap on contact stiffness, as a fraction of the substep rate (> 0).
+        #[arg(long)]
+        hertz_cap: Option<f64>,
     },
     /// Cost of each effect added to a base scene, and of the same effect undeclared.
     Effects {
@@ -134,6 +137,7 @@ fn main() -> Result<()> {
             contact_hertz,
             rigid,
             scalar_contacts,
+            hertz_cap,
         } => run::bench(
             &scene,
             steps,
@@ -143,6 +147,7 @@ fn main() -> Result<()> {
                 contact_hertz,
                 rigid,
                 scalar_contacts,
+                hertz_cap,
             },
         ),
     }

@@ -118,6 +118,8 @@ pub struct SolverOverrides {
     pub rigid: bool,
     /// Contacts solved one by one (no colouring, no four-lane groups).
     pub scalar_contacts: bool,
+    /// Cap on contact stiffness as a fraction of the substep rate.
+    pub hertz_cap: Option<f64>,
 }
 
 /// `vphys bench`: ms per step and the drift of the boxes, as one JSON object.
@@ -145,6 +147,13 @@ pub fn bench(
     if overrides.scalar_contacts {
         w.settings.batch_contacts = false;
     }
+    if let Some(cap) = overrides.hertz_cap {
+        anyhow::ensure!(
+            cap.is_finite() && cap > 0.0,
+            "--hertz-cap must be a positive number, got {cap}"
+        );
+        w.settings.contact_hertz_cap = cap;
+    }
     let n = steps.or(s.steps).unwrap_or(600);
     let start = w.bodies.pos.clone();
     let t = time_steps(&mut w, n, true)?;
@@ -159,6 +168,7 @@ pub fn bench(
         "substeps": w.settings.substeps, "contact_hertz": w.settings.contact_hertz,
         "soft_contacts": w.settings.soft_contacts,
         "batch_contacts": w.settings.batch_contacts,
+        "contact_hertz_cap": w.settings.contact_hertz_cap,
     });
     println!("{out}");
     Ok(())
