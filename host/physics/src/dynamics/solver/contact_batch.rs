@@ -235,29 +235,27 @@ impl ContactGroup {
             let (ia, ib) = (pl.n.ia.scale(delta), pl.n.ib.scale(delta));
             self.apply(&mut s, &p, &ia, &ib);
         }
-        {
-            let [t0, t1] = self.tangents;
-            for i in 0..MAX_MANIFOLD_POINTS {
-                let pl = &mut self.points[order(i)];
-                let l0 = pl.tangent_impulse;
-                let dv = s.vb + s.wb.cross(&pl.rb) - s.va - s.wa.cross(&pl.ra);
-                let l = [
-                    l0[0] - pl.t[0].mass * t0.dot(&dv),
-                    l0[1] - pl.t[1].mass * t1.dot(&dv),
-                ];
-                // Coulomb cone: |λt| ≤ μ λn (a point with no normal impulse gets none).
-                let max = self.friction * pl.normal_impulse;
-                let len2 = l[0] * l[0] + l[1] * l[1];
-                // Where the cone clips, len2 > max² ≥ 0; elsewhere the quotient is not used.
-                let scale = len2.gt(max * max).select(max / len2.sqrt(), one);
-                let l = [l[0] * scale, l[1] * scale];
-                let d = [l[0] - l0[0], l[1] - l0[1]];
-                pl.tangent_impulse = l;
-                let p = t0.scale(d[0]) + t1.scale(d[1]);
-                let ia = pl.t[0].ia.scale(d[0]) + pl.t[1].ia.scale(d[1]);
-                let ib = pl.t[0].ib.scale(d[0]) + pl.t[1].ib.scale(d[1]);
-                self.apply(&mut s, &p, &ia, &ib);
-            }
+        let [t0, t1] = self.tangents;
+        for i in 0..MAX_MANIFOLD_POINTS {
+            let pl = &mut self.points[order(i)];
+            let l0 = pl.tangent_impulse;
+            let dv = s.vb + s.wb.cross(&pl.rb) - s.va - s.wa.cross(&pl.ra);
+            let l = [
+                l0[0] - pl.t[0].mass * t0.dot(&dv),
+                l0[1] - pl.t[1].mass * t1.dot(&dv),
+            ];
+            // Coulomb cone: |λt| ≤ μ λn (a point with no normal impulse gets none).
+            let max = self.friction * pl.normal_impulse;
+            let len2 = l[0] * l[0] + l[1] * l[1];
+            // Where the cone clips, len2 > max² ≥ 0; elsewhere the quotient is not used.
+            let scale = len2.gt(max * max).select(max / len2.sqrt(), one);
+            let l = [l[0] * scale, l[1] * scale];
+            let d = [l[0] - l0[0], l[1] - l0[1]];
+            pl.tangent_impulse = l;
+            let p = t0.scale(d[0]) + t1.scale(d[1]);
+            let ia = pl.t[0].ia.scale(d[0]) + pl.t[1].ia.scale(d[1]);
+            let ib = pl.t[0].ib.scale(d[0]) + pl.t[1].ib.scale(d[1]);
+            self.apply(&mut s, &p, &ia, &ib);
         }
         self.store(bodies, &s);
     }
@@ -555,23 +553,37 @@ mod tests {
                 let s = if c.against_static { &hard } else { &soft };
                 c.solve(&mut scalar_bodies, s, 720.0, 3.0, pass);
             }
-            let (mut batch_bodies, mut batched) = (base.clone(), pick.clone());
-            let mut batches = ContactBatches::default();
-            batches.build(&batched, n, &soft, &hard);
-            assert_eq!((batches.colours, batches.groups()), (1, 1));
-            batches.solve(&mut batch_bodies, 720.0, 3.0, pass);
-            batches.write_back(&mut batched);
-            assert_eq!(scalar_bodies.vel, batch_bodies.vel);
-            assert_eq!(scalar_bodies.omega, batch_bodies.omega);
-            for (s, b) in scalar.iter().zip(&batched) {
-                for (ps, pb) in s.points.iter().zip(&b.points) {
-                    assert_eq!(ps.normal_impulse, pb.normal_impulse);
-                    assert_eq!(ps.tangent_impulse, pb.tangent_impulse);
-                    assert_eq!(ps.max_normal_impulse, pb.max_normal_impulse);
+            // Both copies of the lane code: the one this processor runs (AVX2 where present)
+            // and the baseline one.
+            for baseline in [false, true] {
+                let (mut batch_bodies, mut batched) = (base.clone(), pick.clone());
+                let mut batches = ContactBatches::default();
+                batches.build(&batched, n, &soft, &hard);
+                assert_eq!((batches.colours, batches.groups()), (1, 1));
+                if baseline {
+                    solve_all(
+                        &mut batches.groups[..1],
+                        &mut batch_bodies,
+                        720.0,
+                        3.0,
+                        pass,
+                    );
+                } else {
+                    batches.solve(&mut batch_bodies, 720.0, 3.0, pass);
                 }
+                batches.write_back(&mut batched);
+                assert_eq!(scalar_bodies.vel, batch_bodies.vel);
+                assert_eq!(scalar_bodies.omega, batch_bodies.omega);
+                for (s, b) in scalar.iter().zip(&batched) {
+                    for (ps, pb) in s.points.iter().zip(&b.points) {
+                        assert_eq!(ps.normal_impulse, pb.normal_impulse);
+                        assert_eq!(ps.tangent_impulse, pb.tangent_impulse);
+                        assert_eq!(ps.max_normal_impulse, pb.max_normal_impulse);
+                    }
+                }
+                // The pass did something.
+                assert_ne!(batch_bodies.vel, base.vel);
             }
-            // The pass did something.
-            assert_ne!(batch_bodies.vel, base.vel);
         }
     }
 }
