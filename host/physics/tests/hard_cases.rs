@@ -1,4 +1,4 @@
-//! The hard-case battery (issue "Virtual Physics, part 3"): twelve cases that must stay
+//! The hard-case battery: twelve cases that must stay
 //! numerically stable, each with explicit pass criteria — no NaN, energy bounded, constraint
 //! drift below a tolerance, no tunnelling, no explosion.
 //!

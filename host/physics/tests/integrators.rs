@@ -41,7 +41,7 @@ fn set_integrator_reaches_articulated_trees() {
     assert_eq!(w.articulated[0].integrator, IntegratorKind::ExplicitEuler);
 }
 
-/// The target: |energy drift| ≤ 1e-6 and the reference's 3 flips at 1 ms over 10 s.
+/// The tumbling-box target: |energy drift| ≤ 1e-6 and the reference's 3 flips at 1 ms over 10 s.
 #[test]
 fn energy_momentum_meets_the_tumbling_box_target() {
     let t = free_body::simulate(IntegratorKind::EnergyMomentum, 1e-3).unwrap();

@@ -20,8 +20,8 @@ use space_foosball::table::Table;
 use std::process::ExitCode;
 use std::time::Instant;
 
-/// The sizes measured by default: the 1280 × 720 and the 240 fps target's
-/// 1920 × 1080.
+/// The sizes measured by default: the default screenshot size, 1280 × 720, and the 240 fps
+/// target's 1920 × 1080.
 const SIZES: [(u32, u32); 2] = [(1280, 720), (1920, 1080)];
 
 fn main() -> ExitCode {
