@@ -1,6 +1,10 @@
 //! `space-foosball`: the Space Foosball program, the composition root that joins the
 //! game, the renderer, the sound and the board.
 //!
+//! "The paper" and its section numbers (§5) refer to Bang, Heo, Kim and Kim, "Space
+//! Foosball: Coupling Tangible Interfaces with a Real-time Game Physics Engine"; what the
+//! project takes from it, section by section, is in docs/paper.md in the repository.
+//!
 //! ```text
 //! space-foosball screenshot --screen <name|all> --out <file.png|DIR> [--width 1280] [--height 720]
 //! space-foosball play [--board auto|usb|emulated|socket[:PATH]] [--table standard] [--fullscreen]

@@ -1,6 +1,10 @@
 //! The Space Foosball game: the table as data, calibrated board input, match rules, a
 //! computer opponent, the table as a physics world and the match (paper §5, §5.1).
 //!
+//! "The paper" and its section numbers (§5, §5.1, §6) refer to Bang, Heo, Kim and Kim, "Space
+//! Foosball: Coupling Tangible Interfaces with a Real-time Game Physics Engine"; what the
+//! project takes from it, section by section, is in docs/paper.md in the repository.
+//!
 //! * [`table`]: field, goals, ball, rods, characters (TOML, presets `standard`, `paper`).
 //! * [`input`]: raw counts → rod slide/angle ([`input::calibration`]), and any
 //!   [`board_link::Board`] → the newest rod poses per step ([`input::paddles`]).

@@ -4,6 +4,11 @@
 //! rigid-body motion written in the geometric form of Eq. (4), articulated models
 //! (trees of bodies connected by joints) and their recursive dynamics.
 //!
+//! "The paper" and its numbers (§4.3, Eq. (6), Table 3, Appendix A) refer to Bang, Heo,
+//! Kim and Kim, "Space Foosball: Coupling Tangible Interfaces with a Real-time Game Physics
+//! Engine"; what the project takes from it, section by section, is in docs/paper.md in the
+//! repository.
+//!
 //! * [`algebra`] — `SE3`, `se3` (twists), `dse3` (wrenches), `Inertia`, `AInertia` and the
 //!   operations of the paper's Appendix B, generic over the scalar ([`Real`]).
 //! * [`model`] — joints (one type per file, behind the [`model::Joint`] trait), bodies and
