@@ -155,7 +155,7 @@ pub enum BoardError {
     /// The board is plugged in but this user may not open it.
     #[error(
         "permission denied opening the sensor board (USB id {vid:04x}:{pid:04x}); \
-         install the udev rule 99-space-foosball.rules (see the board-link README)"
+         install the udev rule 70-space-foosball.rules (see the board-link README)"
     )]
     AccessDenied {
         /// Vendor id of the board.

@@ -47,7 +47,7 @@ const HID_OUTPUT_REPORT_NO_ID: u16 = 0x0200;
 /// `Pipe`) the poll reports [`BoardError::Disconnected`], and later polls rescan the bus,
 /// at most once per retry interval ([`DEFAULT_RETRY_INTERVAL`]), until it is back.
 ///
-/// Without root, opening needs the udev rule `udev/99-space-foosball.rules` of this
+/// Without root, opening needs the udev rule `udev/70-space-foosball.rules` of this
 /// crate ([`BoardError::AccessDenied`] otherwise).
 pub struct UsbBoard {
     link: Link<UsbConnector>,

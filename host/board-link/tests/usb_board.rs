@@ -77,3 +77,19 @@ fn udev_rule_matches_the_protocol_ids() {
     assert!(active[0].starts_with("SUBSYSTEM==\"usb\""));
     assert!(active[1].starts_with("SUBSYSTEM==\"hidraw\""));
 }
+
+#[test]
+fn access_denied_names_the_udev_rule_file_that_exists() {
+    let message = BoardError::AccessDenied {
+        vid: VENDOR_ID,
+        pid: PRODUCT_ID,
+    }
+    .to_string();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("udev");
+    let named: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|entry| entry.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| message.contains(name.as_str()))
+        .collect();
+    assert_eq!(named, ["70-space-foosball.rules"], "{message}");
+}
