@@ -46,7 +46,9 @@ impl SocketBoard {
     }
 
     /// Connects to the emulator at `path` now, failing (typically
-    /// [`BoardError::Io`] with `NotFound` or `ConnectionRefused`) if none listens there.
+    /// [`BoardError::Io`] with `NotFound` or `ConnectionRefused`) if none listens there,
+    /// or with `PermissionDenied` if the socket's folder is not safe to use
+    /// ([`socket_wire::check_socket_dir`]).
     pub fn connect(path: impl Into<PathBuf>) -> Result<Self, BoardError> {
         let mut board = Self::new(path);
         board.link.connect_now()?;
@@ -116,6 +118,10 @@ impl Connector for SocketConnector {
     }
 
     fn connect(&mut self) -> Result<SocketTransport, BoardError> {
+        // Another user's folder could hold another user's emulator.
+        if let Some(dir) = socket_wire::socket_dir(&self.path) {
+            socket_wire::check_socket_dir(dir)?;
+        }
         let stream = UnixStream::connect(&self.path)?;
         stream.set_nonblocking(true)?;
         let mut transport = SocketTransport {
@@ -223,6 +229,22 @@ impl SocketTransport {
         Ok(())
     }
 
+    /// Goes through the frames already received until an IN report, copied into `buf`
+    /// (`Some(len)`). The reader holds at most one read's worth of bytes beyond a
+    /// partial frame, so this is bounded work.
+    fn take_buffered(&mut self, buf: &mut ReportBuf) -> Result<Option<usize>, TransportError> {
+        while let Some(message) = self
+            .reader
+            .next_message()
+            .map_err(|e| TransportError::Broken(e.into()))?
+        {
+            if let Some(len) = self.handle(message, buf).map_err(TransportError::Broken)? {
+                return Ok(Some(len));
+            }
+        }
+        Ok(None)
+    }
+
     /// Handles one received message: `Some(len)` for an IN report copied into `buf`.
     fn handle(
         &mut self,
@@ -264,38 +286,44 @@ impl Transport for SocketTransport {
         format!("emulated board at {}", self.path.display())
     }
 
+    /// Returns by `timeout` whatever the peer does, give or take one read (at most
+    /// [`socket_wire::READ_CHUNK`] bytes) and the frames it brought: the deadline is
+    /// checked after every read, so a peer that keeps the socket readable (a flood of
+    /// hellos, one byte at a time) cannot hold the poll. A zero timeout still takes
+    /// what has arrived.
     fn recv(
         &mut self,
         buf: &mut ReportBuf,
         timeout: Duration,
     ) -> Result<Option<usize>, TransportError> {
         let deadline = Instant::now().checked_add(timeout);
+        let mut read_since_wait = false;
         loop {
-            while let Some(message) = self
-                .reader
-                .next_message()
-                .map_err(|e| TransportError::Broken(e.into()))?
-            {
-                if let Some(len) = self.handle(message, buf).map_err(TransportError::Broken)? {
-                    return Ok(Some(len));
-                }
-            }
-            match self.reader.read_from(&mut self.stream) {
-                Ok(0) => return Err(TransportError::Gone),
-                Ok(_) => continue,
-                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {}
-                Err(e) if is_gone(&e) => return Err(TransportError::Gone),
-                Err(e) => return Err(TransportError::Transient(e.into())),
+            if let Some(len) = self.take_buffered(buf)? {
+                return Ok(Some(len));
             }
             let left = match deadline {
                 Some(deadline) => deadline.saturating_duration_since(Instant::now()),
                 None => Duration::from_secs(3600),
             };
-            if left.is_zero() {
+            if left.is_zero() && read_since_wait {
                 return Ok(None);
             }
-            self.wait(libc::POLLIN, left)
-                .map_err(|e| TransportError::Transient(e.into()))?;
+            read_since_wait = true;
+            match self.reader.read_from(&mut self.stream) {
+                Ok(0) => return Err(TransportError::Gone),
+                Ok(_) => {}
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
+                    if left.is_zero() {
+                        return Ok(None);
+                    }
+                    self.wait(libc::POLLIN, left)
+                        .map_err(|e| TransportError::Transient(e.into()))?;
+                    read_since_wait = false;
+                }
+                Err(e) if is_gone(&e) => return Err(TransportError::Gone),
+                Err(e) => return Err(TransportError::Transient(e.into())),
+            }
         }
     }
 

@@ -29,7 +29,7 @@
 
 use std::ffi::OsString;
 use std::io::{self, Read, Write};
-use std::os::unix::fs::DirBuilderExt;
+use std::os::unix::fs::{DirBuilderExt, MetadataExt, PermissionsExt};
 use std::os::unix::net::{UnixListener, UnixStream};
 use std::path::{Path, PathBuf};
 
@@ -205,7 +205,12 @@ pub fn write_message<W: Write + ?Sized>(writer: &mut W, message: &Message) -> io
 #[derive(Debug, Clone, Default)]
 pub struct FrameReader {
     buf: Vec<u8>,
+    /// Bytes of `buf` before this are taken out already.
+    start: usize,
 }
+
+/// Most bytes one [`FrameReader::read_from`] takes from the stream.
+pub const READ_CHUNK: usize = 4096;
 
 impl FrameReader {
     /// An empty reader.
@@ -215,23 +220,29 @@ impl FrameReader {
 
     /// Appends received bytes.
     pub fn push(&mut self, bytes: &[u8]) {
+        if self.start > 0 {
+            // Taken-out bytes go now, so taking frames out stays linear.
+            self.buf.drain(..self.start);
+            self.start = 0;
+        }
         self.buf.extend_from_slice(bytes);
     }
 
     /// Bytes received but not yet taken out as messages.
     pub fn buffered(&self) -> usize {
-        self.buf.len()
+        self.buf.len() - self.start
     }
 
     /// Takes the next whole message out: `Ok(None)` if more bytes are needed.
     pub fn next_message(&mut self) -> Result<Option<Message>, WireError> {
-        let [kind_byte, len_byte, ..] = self.buf[..] else {
+        let rest = &self.buf[self.start..];
+        let [kind_byte, len_byte, ..] = rest[..] else {
             return Ok(None);
         };
         let kind = FrameKind::from_u8(kind_byte).ok_or(WireError::UnknownKind(kind_byte))?;
         let len = usize::from(len_byte);
         check_length(kind, len)?;
-        let Some(payload) = self.buf.get(HEADER_LEN..HEADER_LEN + len) else {
+        let Some(payload) = rest.get(HEADER_LEN..HEADER_LEN + len) else {
             return Ok(None);
         };
         let message = match kind {
@@ -241,15 +252,19 @@ impl FrameReader {
             FrameKind::InReport => Message::InReport(payload.to_vec()),
             FrameKind::OutReport => Message::OutReport(payload.to_vec()),
         };
-        self.buf.drain(..HEADER_LEN + len);
+        self.start += HEADER_LEN + len;
+        if self.start == self.buf.len() {
+            self.buf.clear();
+            self.start = 0;
+        }
         Ok(Some(message))
     }
 
-    /// Performs one `read` from `reader` into the buffer, returning the bytes read
-    /// (`Ok(0)`: end of stream). `Interrupted` is retried; `WouldBlock` (non-blocking
-    /// sockets) and other errors are returned.
+    /// Performs one `read` of at most [`READ_CHUNK`] bytes from `reader` into the
+    /// buffer, returning the bytes read (`Ok(0)`: end of stream). `Interrupted` is
+    /// retried; `WouldBlock` (non-blocking sockets) and other errors are returned.
     pub fn read_from<R: Read + ?Sized>(&mut self, reader: &mut R) -> io::Result<usize> {
-        let mut chunk = [0u8; 4096];
+        let mut chunk = [0u8; READ_CHUNK];
         loop {
             match reader.read(&mut chunk) {
                 Ok(n) => {
@@ -280,15 +295,13 @@ pub fn socket_path_for(xdg_runtime_dir: Option<OsString>, uid: u32) -> PathBuf {
     }
 }
 
-/// Binds a listening socket at `path` for a server: creates the parent directory
-/// (mode 0700) if needed and removes a stale socket file left by a killed server.
-/// Fails with [`io::ErrorKind::AddrInUse`] if a live server already listens there.
+/// Binds a listening socket at `path` for a server: prepares its folder
+/// ([`prepare_socket_dir`]) and removes a stale socket file left by a killed server.
+/// Fails with [`io::ErrorKind::AddrInUse`] if a live server already listens there, and
+/// with [`io::ErrorKind::PermissionDenied`] if the folder is not safe to use.
 pub fn bind_listener(path: &Path) -> io::Result<UnixListener> {
-    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::DirBuilder::new()
-            .recursive(true)
-            .mode(0o700)
-            .create(parent)?;
+    if let Some(parent) = socket_dir(path) {
+        prepare_socket_dir(parent)?;
     }
     match UnixListener::bind(path) {
         Ok(listener) => Ok(listener),
@@ -303,5 +316,187 @@ pub fn bind_listener(path: &Path) -> io::Result<UnixListener> {
             UnixListener::bind(path)
         }
         Err(e) => Err(e),
+    }
+}
+
+/// The folder a socket path lives in, `None` for a bare file name (the current
+/// directory).
+pub(crate) fn socket_dir(path: &Path) -> Option<&Path> {
+    path.parent().filter(|p| !p.as_os_str().is_empty())
+}
+
+/// Makes sure `dir` can hold the board's socket: creates it (and missing parents) with
+/// mode 0700 if it does not exist, then checks it with [`check_socket_dir`].
+pub fn prepare_socket_dir(dir: &Path) -> io::Result<()> {
+    if dir.symlink_metadata().is_err() {
+        std::fs::DirBuilder::new()
+            .recursive(true)
+            .mode(0o700)
+            .create(dir)?;
+        // Exactly 0700 whatever the umask.
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o700))?;
+    }
+    check_socket_dir(dir)
+}
+
+/// Checks that the folder `dir` is safe for the board's socket, so that no other user
+/// can put their own socket in its place: it must be a real directory (not a symbolic
+/// link), owned by this user, and writable by nobody else (no group or world write
+/// bit). One exception: a shared temporary directory such as `/tmp` (owned by root,
+/// sticky bit set, where nobody can remove or rename another user's files) is
+/// accepted. A refusal is a [`io::ErrorKind::PermissionDenied`] error naming the folder
+/// and the problem; a missing folder is the [`io::ErrorKind::NotFound`] error of the
+/// lookup.
+pub fn check_socket_dir(dir: &Path) -> io::Result<()> {
+    // SAFETY: geteuid has no preconditions and cannot fail.
+    check_socket_dir_for(dir, unsafe { libc::geteuid() })
+}
+
+/// [`check_socket_dir`] as the user `uid`.
+fn check_socket_dir_for(dir: &Path, uid: u32) -> io::Result<()> {
+    let refuse = |why: String| {
+        Err(io::Error::new(
+            io::ErrorKind::PermissionDenied,
+            format!("refusing the socket folder {}: {why}", dir.display()),
+        ))
+    };
+    let meta = dir
+        .symlink_metadata()
+        .map_err(|e| io::Error::new(e.kind(), format!("socket folder {}: {e}", dir.display())))?;
+    if meta.file_type().is_symlink() {
+        return refuse("it is a symbolic link; remove it".into());
+    }
+    if !meta.is_dir() {
+        return refuse("it is not a directory".into());
+    }
+    let mode = meta.mode() & 0o7777;
+    let shared_tmp = meta.uid() == 0 && mode & 0o1000 != 0;
+    if shared_tmp {
+        return Ok(());
+    }
+    if meta.uid() != uid {
+        return refuse(format!(
+            "it is owned by user id {}, not by this user (id {uid}); remove it",
+            meta.uid()
+        ));
+    }
+    if mode & 0o022 != 0 {
+        return refuse(format!(
+            "it is writable by group or others (mode {mode:04o}); `chmod 700` it or remove it"
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::PermissionsExt;
+
+    fn chmod(path: &Path, mode: u32) {
+        std::fs::set_permissions(path, std::fs::Permissions::from_mode(mode)).unwrap();
+    }
+
+    fn me() -> u32 {
+        // SAFETY: geteuid has no preconditions and cannot fail.
+        unsafe { libc::geteuid() }
+    }
+
+    fn refusal(result: io::Result<()>) -> String {
+        let e = result.expect_err("the folder should be refused");
+        assert_eq!(e.kind(), io::ErrorKind::PermissionDenied, "{e}");
+        e.to_string()
+    }
+
+    #[test]
+    fn a_new_socket_folder_is_created_with_mode_0700() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("space-foosball-test");
+        prepare_socket_dir(&dir).unwrap();
+        let meta = dir.symlink_metadata().unwrap();
+        assert!(meta.is_dir());
+        assert_eq!(meta.mode() & 0o7777, 0o700);
+        assert_eq!(meta.uid(), me());
+        // Binding there works, and again after (an existing good folder is kept).
+        drop(bind_listener(&dir.join("board.sock")).unwrap());
+        drop(bind_listener(&dir.join("board.sock")).unwrap());
+    }
+
+    #[test]
+    fn group_or_world_writable_folders_are_refused() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("open");
+        std::fs::create_dir(&dir).unwrap();
+        for mode in [0o777, 0o770, 0o702, 0o720] {
+            chmod(&dir, mode);
+            let message = refusal(prepare_socket_dir(&dir));
+            assert!(message.contains("writable by group or others"), "{message}");
+            assert!(message.contains(&format!("{mode:04o}")), "{message}");
+            let message = refusal(bind_listener(&dir.join("board.sock")).map(drop));
+            assert!(message.contains("open"), "{message}");
+        }
+        chmod(&dir, 0o755);
+        check_socket_dir(&dir).unwrap();
+    }
+
+    #[test]
+    fn symbolic_links_and_files_are_refused() {
+        let tmp = tempfile::tempdir().unwrap();
+        let real = tmp.path().join("real");
+        std::fs::create_dir(&real).unwrap();
+        chmod(&real, 0o700);
+        let link = tmp.path().join("link");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        let message = refusal(prepare_socket_dir(&link));
+        assert!(message.contains("symbolic link"), "{message}");
+        let file = tmp.path().join("file");
+        std::fs::write(&file, b"").unwrap();
+        let message = refusal(check_socket_dir(&file));
+        assert!(message.contains("not a directory"), "{message}");
+        // A dangling link is refused too, not followed to create its target.
+        let dangling = tmp.path().join("dangling");
+        std::os::unix::fs::symlink(tmp.path().join("nowhere"), &dangling).unwrap();
+        let message = refusal(prepare_socket_dir(&dangling));
+        assert!(message.contains("symbolic link"), "{message}");
+        assert!(!tmp.path().join("nowhere").exists());
+    }
+
+    #[test]
+    fn a_folder_owned_by_another_user_is_refused() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("theirs");
+        std::fs::create_dir(&dir).unwrap();
+        chmod(&dir, 0o700);
+        // As seen by another user (the owner comparison itself).
+        let other = me().wrapping_add(4242);
+        let message = refusal(check_socket_dir_for(&dir, other));
+        assert!(
+            message.contains(&format!("owned by user id {}", me())),
+            "{message}"
+        );
+        // For real, where this test may hand the folder to another user (as root).
+        // SAFETY: a valid NUL-terminated path; chown has no other preconditions.
+        let path = std::ffi::CString::new(dir.as_os_str().as_encoded_bytes()).unwrap();
+        let given = unsafe { libc::chown(path.as_ptr(), other, other) } == 0;
+        if given {
+            let message = refusal(prepare_socket_dir(&dir));
+            assert!(
+                message.contains(&format!("owned by user id {other}")),
+                "{message}"
+            );
+        } else {
+            eprintln!("not root: the folder could not be given to another user");
+        }
+    }
+
+    #[test]
+    fn shared_sticky_temporary_directories_are_accepted() {
+        let tmp = std::env::temp_dir();
+        let meta = tmp.symlink_metadata().unwrap();
+        if meta.uid() == 0 && meta.mode() & 0o1000 != 0 {
+            check_socket_dir(&tmp).unwrap();
+        } else {
+            eprintln!("{} is not a root-owned sticky directory", tmp.display());
+        }
     }
 }
