@@ -34,7 +34,7 @@ fn default_out(quick: bool) -> PathBuf {
     if quick {
         std::env::temp_dir().join("vphys-accuracy-quick")
     } else {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("accuracy")
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../physics/accuracy")
     }
 }
 

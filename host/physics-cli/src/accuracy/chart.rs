@@ -14,7 +14,7 @@ use virtual_physics::pipeline::IntegratorKind;
 
 use super::Report;
 
-static FONT: &[u8] = include_bytes!("../../../../assets/fonts/Cantarell-Regular.ttf");
+static FONT: &[u8] = include_bytes!("../../assets/fonts/Cantarell-Regular.ttf");
 static REGISTER: Once = Once::new();
 
 const SIZE: (u32, u32) = (1500, 1000);

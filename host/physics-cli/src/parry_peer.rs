@@ -125,8 +125,8 @@ pub fn run(json: bool) -> Result<()> {
 #[cfg(not(feature = "rapier-peer"))]
 pub fn run(_json: bool) -> Result<()> {
     eprintln!(
-        "vphys: built without parry; rebuild with\n  cargo run -p virtual-physics --release \
-         --features rapier-peer --bin vphys -- peers parry"
+        "vphys: built without parry; rebuild with\n  cargo run -p virtual-physics-cli --release \
+         --features rapier-peer -- peers parry"
     );
     std::process::exit(2);
 }

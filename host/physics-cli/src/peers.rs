@@ -65,7 +65,7 @@ pub struct Python {
     #[arg(long, default_value = "python3")]
     python: String,
     /// The peer script.
-    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/peers/pinocchio_fixtures.py"))]
+    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../physics/peers/pinocchio_fixtures.py"))]
     script: PathBuf,
 }
 
@@ -157,7 +157,10 @@ pub fn run(cmd: PeersCmd) -> Result<()> {
         PeersCmd::Fixtures { out, py } => {
             py.check()?;
             let out = out.unwrap_or_else(|| {
-                PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures"))
+                PathBuf::from(concat!(
+                    env!("CARGO_MANIFEST_DIR"),
+                    "/../physics/tests/fixtures"
+                ))
             });
             std::fs::create_dir_all(&out)?;
             let dir = temp_dir();

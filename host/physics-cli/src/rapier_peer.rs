@@ -165,8 +165,8 @@ fn rapier_run(
     _: RapierSettings,
 ) -> Result<(f64, f64)> {
     eprintln!(
-        "vphys: built without rapier; rebuild with\n  cargo run -p virtual-physics --release \
-         --features rapier-peer --bin vphys -- peers rapier"
+        "vphys: built without rapier; rebuild with\n  cargo run -p virtual-physics-cli --release \
+         --features rapier-peer -- peers rapier"
     );
     std::process::exit(2);
 }
