@@ -1,5 +1,9 @@
 //! The host's link to the Space Foosball sensor board, real or emulated.
 //!
+//! "The paper" and its section numbers (§6) refer to Bang, Heo, Kim and Kim, "Space
+//! Foosball: Coupling Tangible Interfaces with a Real-time Game Physics Engine"; what the
+//! project takes from it, section by section, is in docs/paper.md in the repository.
+//!
 //! The game talks to a [`Board`]: it polls IN reports ([`foosball_protocol::InReport`],
 //! one per millisecond from the board), sends OUT reports (haptics, LED), and reads the
 //! link's [`LinkState`] and [`LinkStats`]. Three implementations exist:

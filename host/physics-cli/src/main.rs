@@ -1,4 +1,8 @@
 //! `vphys`: the Virtual Physics command line — Table 3 and peer comparisons.
+//!
+//! "The paper" and its Table 3 refer to Bang, Heo, Kim and Kim, "Space Foosball: Coupling
+//! Tangible Interfaces with a Real-time Game Physics Engine"; what the project takes from
+//! it, section by section, is in docs/paper.md in the repository.
 
 mod accuracy;
 mod effects;
