@@ -34,5 +34,5 @@ npm ci --no-audit --no-fund --loglevel=error
 
 step "firmware in the loop: node $(node --version)"
 start=$(date +%s)
-node --test test/firmware.test.mjs
+node --test test/firmware.test.mjs test/latency.test.mjs
 echo "firmware in the loop: passed in $(($(date +%s) - start)) s"

@@ -17,6 +17,7 @@ mod pins;
 mod ps2_pio;
 mod sensor_loop;
 mod usb_hid;
+mod usb_in_flight;
 mod watchdog;
 
 use defmt::unwrap;
@@ -28,7 +29,7 @@ use embassy_rp::usb;
 use {defmt_rtt as _, panic_probe as _};
 
 bind_interrupts!(struct Irqs {
-    USBCTRL_IRQ => usb::InterruptHandler<USB>;
+    USBCTRL_IRQ => usb_in_flight::TakenHandler, usb::InterruptHandler<USB>;
     PIO0_IRQ_0 => pio::InterruptHandler<PIO0>;
     PIO1_IRQ_0 => pio::InterruptHandler<PIO1>;
 });

@@ -1,11 +1,12 @@
 //! The sensor loop: moves PS/2 traffic between the eight ports and the platform-free
 //! [`SensorBoard`], and feeds the watchdog.
 //!
-//! Every [`PASS_PERIOD`] it drains each port's events (received frames, command
-//! outcomes, send timeouts) into the board, then asks the board for the next command
-//! per port and sends it. The USB IN task drains the board's accumulators into a
-//! report every millisecond ([`take_report`]); both share the board through
-//! [`BOARD`].
+//! Every [`PASS_PERIOD`] the sensor task makes one [`pass`]: it drains each port's
+//! events (received frames, command outcomes, send timeouts) into the board, then
+//! asks the board for the next command per port and sends it. The USB IN task makes
+//! a pass of its own right before it snapshots a report ([`snapshot_report`]), so a
+//! report holds every frame the PIO had received by then. Both share the ports and
+//! the board through [`SENSORS`] (both run in thread mode on the one executor).
 
 use core::cell::RefCell;
 
@@ -22,23 +23,31 @@ use crate::watchdog::Watchdog;
 /// millisecond; a port's RX FIFO holds four frames (≥ 2.4 ms of traffic).
 pub const PASS_PERIOD: Duration = Duration::from_micros(250);
 
-/// The board state, shared by the sensor loop and the USB IN task (both run in
-/// thread mode on the one executor).
-pub static BOARD: Mutex<ThreadModeRawMutex, RefCell<SensorBoard>> =
-    Mutex::new(RefCell::new(SensorBoard::new(BoardConfig::DEFAULT)));
+/// The eight ports and the board logic.
+struct Sensors {
+    /// `None` until [`sensor_task`] starts.
+    ports: Option<Ps2Ports>,
+    board: SensorBoard,
+}
+
+/// The ports and the board, shared by the sensor task and the USB IN task.
+static SENSORS: Mutex<ThreadModeRawMutex, RefCell<Sensors>> = Mutex::new(RefCell::new(Sensors {
+    ports: None,
+    board: SensorBoard::new(BoardConfig::DEFAULT),
+}));
 
 /// Microseconds since boot, the time base of `sensor-board`.
 pub fn now_us() -> u64 {
     Instant::now().as_micros()
 }
 
-/// Drains the accumulators into the next IN report.
-pub fn take_report() -> InReport {
-    BOARD.lock(|board| board.borrow_mut().take_report(now_us()))
-}
-
-/// One pass over the eight ports.
-fn service(ports: &mut Ps2Ports, board: &mut SensorBoard, now_us: u64) {
+/// One pass over the eight ports at `now_us`: frames and command outcomes into the
+/// board, the board's next command per port out to the wire.
+fn pass(sensors: &mut Sensors, now_us: u64) {
+    let Sensors { ports, board } = sensors;
+    let Some(ports) = ports.as_mut() else {
+        return;
+    };
     for (index, port) in ports.all().into_iter().enumerate() {
         while let Some(event) = port.next_event(now_us) {
             match event {
@@ -58,18 +67,34 @@ fn service(ports: &mut Ps2Ports, board: &mut SensorBoard, now_us: u64) {
     }
 }
 
+/// A fresh IN report: one pass over the ports first, then the motion accumulated
+/// since the last [`commit`] (nothing is drained; see [`SensorBoard::snapshot_report`]).
+pub fn snapshot_report() -> InReport {
+    SENSORS.lock(|sensors| {
+        let mut sensors = sensors.borrow_mut();
+        let now = now_us();
+        pass(&mut sensors, now);
+        sensors.board.snapshot_report(now)
+    })
+}
+
+/// The host received `sent`: its motion leaves the accumulators.
+pub fn commit(sent: &InReport) {
+    SENSORS.lock(|sensors| sensors.borrow_mut().board.commit(sent));
+}
+
 /// Services the ports forever, feeding the watchdog after every pass and logging
 /// when a sensor comes or goes.
 #[embassy_executor::task]
-pub async fn sensor_task(mut ports: Ps2Ports, mut watchdog: Watchdog) -> ! {
+pub async fn sensor_task(ports: Ps2Ports, mut watchdog: Watchdog) -> ! {
+    SENSORS.lock(|sensors| sensors.borrow_mut().ports = Some(ports));
     let mut ticker = Ticker::every(PASS_PERIOD);
     let mut present = 0u8;
     loop {
-        let now = now_us();
-        let mask = BOARD.lock(|board| {
-            let mut board = board.borrow_mut();
-            service(&mut ports, &mut board, now);
-            board.present_mask()
+        let mask = SENSORS.lock(|sensors| {
+            let mut sensors = sensors.borrow_mut();
+            pass(&mut sensors, now_us());
+            sensors.board.present_mask()
         });
         if mask != present {
             defmt::info!("sensors present (bit = port): {=u8:08b}", mask);

@@ -1,7 +1,7 @@
 //! USB: a full-speed HID device with one interrupt IN and one interrupt OUT endpoint.
 //!
-//! * IN, every millisecond: the [`InReport`] of the eight paddles
-//!   ([`crate::sensor_loop::take_report`]).
+//! * IN, every millisecond: the [`InReport`] of the eight paddles, one fresh report
+//!   in flight ([`report_in_task`], [`crate::usb_in_flight`]).
 //! * OUT (or a HID SET_REPORT control request): an [`OutReport`] with the haptic
 //!   pulses and the LED state, handed to [`crate::haptics`] and [`crate::led`]. A
 //!   malformed report is logged and ignored; reporting goes on.
@@ -11,13 +11,16 @@
 //!
 //! [`InReport`]: foosball_protocol::InReport
 
+use embassy_futures::select::{select, Either};
 use embassy_rp::peripherals::USB;
 use embassy_rp::usb::Driver;
+use embassy_time::{Duration, Instant, Timer};
 use embassy_usb::class::hid::{
     self, HidBootProtocol, HidReader, HidReaderWriter, HidSubclass, HidWriter, ReadError, ReportId,
     RequestHandler,
 };
 use embassy_usb::control::OutResponse;
+use embassy_usb::driver::EndpointError;
 use embassy_usb::{Builder, UsbDevice, UsbVersion};
 use foosball_protocol::usb::{
     ENDPOINT_MAX_PACKET, HID_REPORT_DESCRIPTOR, MANUFACTURER, POLL_INTERVAL_MS, PRODUCT,
@@ -26,7 +29,7 @@ use foosball_protocol::usb::{
 use foosball_protocol::{OutReport, IN_REPORT_LEN};
 use static_cell::StaticCell;
 
-use crate::{haptics, led, sensor_loop};
+use crate::{haptics, led, sensor_loop, usb_in_flight};
 
 /// The RP2040 USB device controller driver.
 pub type UsbDriver = Driver<'static, USB>;
@@ -141,22 +144,72 @@ pub async fn usb_device_task(mut device: UsbDevice<'static, UsbDriver>) -> ! {
     device.run().await
 }
 
-/// Sends an IN report whenever the host polls (every millisecond while configured).
+/// Polling period of the IN endpoint the host was asked for.
+const POLL_PERIOD: Duration = Duration::from_millis(POLL_INTERVAL_MS as u64);
+
+/// How long before the host's expected IN token the report is snapshot and armed:
+/// long enough for the pass over the ports, the copy into the USB buffer and the
+/// executor's wake-up latency, short so the report is fresh.
+const LEAD: Duration = Duration::from_micros(150);
+
+/// The host counts as late (paused, or a missed frame) once its IN token is this
+/// much overdue; from then on the armed report is refreshed every [`REFRESH`].
+const LATE: Duration = Duration::from_micros(100);
+
+/// While the host is late, the armed report is replaced by a fresh one this often,
+/// so whenever it comes back the first report it takes is at most this old.
+const REFRESH: Duration = Duration::from_micros(150);
+
+/// Keeps exactly one fresh IN report in flight while the endpoint is enabled.
 ///
-/// The report is taken from the board right after the previous one went out, so
-/// each covers the motion of one polling interval. While the host is not polling
-/// (unconfigured, suspended, no application reading), nothing is taken and motion
-/// accumulates (saturating, flagged) in the board.
+/// The report is a snapshot of the accumulators ([`sensor_loop::snapshot_report`]),
+/// armed [`LEAD`] before the host's next IN token is due (one polling period after
+/// it took the previous one). Only when the host has taken it is its motion removed
+/// from the accumulators ([`sensor_loop::commit`]); motion that arrived meanwhile
+/// stays for the next report. If the host does not come when due, the armed report
+/// is revoked and replaced by a fresh one every [`REFRESH`] (same sequence number:
+/// it has not been sent), so after a pause the host gets current motion, not motion
+/// from before the pause. A report that was never sent (bus reset, deconfigured) is
+/// never committed, so nothing is lost.
 #[embassy_executor::task]
 pub async fn report_in_task(mut writer: ReportWriter) -> ! {
     loop {
         writer.ready().await;
+        usb_in_flight::TAKEN.reset();
         defmt::info!("USB IN endpoint enabled: sending reports");
-        loop {
-            let bytes = sensor_loop::take_report().to_bytes();
-            if let Err(err) = writer.write(&bytes).await {
-                defmt::info!("USB IN endpoint stopped: {}", err);
-                break;
+        if let Err(err) = send_reports(&mut writer).await {
+            defmt::info!("USB IN endpoint stopped: {}", err);
+        }
+    }
+}
+
+/// The in-flight loop of [`report_in_task`]; returns when the endpoint stops.
+async fn send_reports(writer: &mut ReportWriter) -> Result<(), EndpointError> {
+    let mut armed = sensor_loop::snapshot_report();
+    writer.write(&armed.to_bytes()).await?;
+    // When the host's next IN token is due; `None` while it is late.
+    let mut due: Option<Instant> = None;
+    loop {
+        let deadline = due.map_or_else(|| Instant::now() + REFRESH, |at| at + LATE);
+        match select(usb_in_flight::TAKEN.wait(), Timer::at(deadline)).await {
+            Either::First(taken_at) => {
+                sensor_loop::commit(&armed);
+                let next = taken_at + POLL_PERIOD;
+                due = Some(next);
+                Timer::at(next - LEAD).await;
+                armed = sensor_loop::snapshot_report();
+                writer.write(&armed.to_bytes()).await?;
+            }
+            Either::Second(()) => {
+                due = None;
+                let result = if usb_in_flight::revoke() {
+                    armed = sensor_loop::snapshot_report();
+                    writer.write(&armed.to_bytes()).await
+                } else {
+                    Ok(())
+                };
+                usb_in_flight::release();
+                result?;
             }
         }
     }

@@ -90,11 +90,22 @@ impl SensorBoard {
     }
 
     /// Drains all eight accumulators into the next IN report and advances the
-    /// sequence number (wrapping; the first report is number 0). Each paddle's status
-    /// has [`PaddleStatus::PRESENT`] if its mouse is streaming now, plus the flags seen
-    /// since the previous report. `now_us` is not needed today (timeouts run in
-    /// [`poll`](Self::poll)).
+    /// sequence number (wrapping; the first report is number 0): a
+    /// [`snapshot_report`](Self::snapshot_report) immediately
+    /// [`commit`](Self::commit)ted, for a transport that cannot fail to send.
     pub fn take_report(&mut self, now_us: u64) -> InReport {
+        let report = self.snapshot_report(now_us);
+        self.commit(&report);
+        report
+    }
+
+    /// The next IN report, without draining anything: the motion accumulated since
+    /// the last [`commit`](Self::commit) and the sequence number it will carry. Each
+    /// paddle's status has [`PaddleStatus::PRESENT`] if its mouse is streaming now,
+    /// plus the flags seen since the last commit. Calling it again later gives a
+    /// newer report with the same sequence number (a report refreshed before it was
+    /// sent). `now_us` is not needed today (timeouts run in [`poll`](Self::poll)).
+    pub fn snapshot_report(&mut self, now_us: u64) -> InReport {
         let _ = now_us;
         let mut paddles = [PaddleMotion::default(); PORTS];
         for ((paddle, driver), accumulator) in paddles
@@ -102,26 +113,41 @@ impl SensorBoard {
             .zip(self.drivers.iter_mut())
             .zip(self.accumulators.iter_mut())
         {
+            // The driver's events move into the accumulator's sticky flags, where
+            // they stay until a report that carries them is committed.
             let events = driver.take_events();
-            let mut status = PaddleStatus::empty();
-            if driver.is_present() {
-                status |= PaddleStatus::PRESENT;
-            }
+            let mut flags = PaddleStatus::empty();
             if events.framing_error {
-                status |= PaddleStatus::FRAMING_ERROR;
+                flags |= PaddleStatus::FRAMING_ERROR;
             }
             if events.parity_error {
-                status |= PaddleStatus::PARITY_ERROR;
+                flags |= PaddleStatus::PARITY_ERROR;
             }
             if events.reinitialised {
-                status |= PaddleStatus::REINITIALISED;
+                flags |= PaddleStatus::REINITIALISED;
             }
-            accumulator.flag(status);
-            *paddle = accumulator.take();
+            accumulator.flag(flags);
+            *paddle = accumulator.peek();
+            if driver.is_present() {
+                paddle.status |= PaddleStatus::PRESENT;
+            }
         }
-        let sequence = self.sequence;
-        self.sequence = self.sequence.wrapping_add(1);
-        InReport { sequence, paddles }
+        InReport {
+            sequence: self.sequence,
+            paddles,
+        }
+    }
+
+    /// The host has received `sent` (a [`snapshot_report`](Self::snapshot_report)):
+    /// its motion and flags are removed from the accumulators, so motion that
+    /// arrived after the snapshot stays for the next report, and the sequence number
+    /// advances (wrapping). A report that was never sent is simply not committed and
+    /// nothing is lost.
+    pub fn commit(&mut self, sent: &InReport) {
+        for (accumulator, paddle) in self.accumulators.iter_mut().zip(sent.paddles.iter()) {
+            accumulator.remove(paddle);
+        }
+        self.sequence = sent.sequence.wrapping_add(1);
     }
 
     /// The configuration.

@@ -325,3 +325,38 @@ fn mouse_config_reaches_every_driver() {
     }
     assert_eq!(board.config().mouse.sample_rate, 80);
 }
+
+/// A report that was snapshot but never committed loses nothing; one that was
+/// committed removes exactly what it carried, and motion after the snapshot stays.
+#[test]
+fn snapshot_commit_removes_only_what_was_sent() {
+    let mut bench = Bench::new(BoardConfig::default());
+    bench.bring_up();
+    bench.tick();
+    let packet = |board: &mut SensorBoard, dx: i16, dy: i16| {
+        let bytes = MousePacket {
+            dx,
+            dy,
+            ..MousePacket::default()
+        }
+        .to_bytes();
+        for byte in bytes {
+            board.on_frame(0, 0, Ps2Frame::encode(byte));
+        }
+    };
+    packet(&mut bench.board, 10, 4);
+    let unsent = bench.board.snapshot_report(bench.now);
+    packet(&mut bench.board, 3, -1);
+    let sent = bench.board.snapshot_report(bench.now);
+    assert_eq!(
+        unsent.sequence, sent.sequence,
+        "a refreshed report keeps its number"
+    );
+    assert_eq!((sent.paddles[0].axial, sent.paddles[0].rotation), (13, 3));
+    packet(&mut bench.board, 5, 2);
+    bench.board.commit(&sent);
+    let next = bench.board.take_report(bench.now);
+    assert_eq!(next.sequence, sent.sequence.wrapping_add(1));
+    assert_eq!((next.paddles[0].axial, next.paddles[0].rotation), (5, 2));
+    assert_eq!(next.paddles[0].status, PaddleStatus::PRESENT);
+}

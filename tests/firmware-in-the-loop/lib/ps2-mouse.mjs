@@ -23,9 +23,11 @@ export class Ps2Mouse {
   /**
    * @param {import('./board.mjs').Board} board
    * @param {{ port: number, data: number, clock: number, halfPeriodUs?: number,
-   *           selfTestUs?: number, replyDelayUs?: number }} options
+   *           selfTestUs?: number, replyDelayUs?: number, sampleClock?: number }} options
+   *   sampleClock: the mouse's own time base relative to the board's (1.01 = its
+   *   sample period is 1 % long), so its packets drift against the host's frames
    */
-  constructor(board, { port, data, clock, halfPeriodUs = 40, selfTestUs = 5000, replyDelayUs = 150 }) {
+  constructor(board, { port, data, clock, halfPeriodUs = 40, selfTestUs = 5000, replyDelayUs = 150, sampleClock = 1 }) {
     this.board = board;
     this.port = port;
     this.dataPin = data;
@@ -33,6 +35,7 @@ export class Ps2Mouse {
     this.half = halfPeriodUs * US;
     this.selfTestNs = selfTestUs * US;
     this.replyDelayNs = replyDelayUs * US;
+    this.sampleClock = sampleClock;
     board.attachWire(data);
     board.attachWire(clock, () => this.onClockChange());
 
@@ -49,6 +52,11 @@ export class Ps2Mouse {
     this.outQueue = [];
     this.delayed = []; // [{ atNs, bytes }]
     this.lastPacketNs = -Infinity;
+    /** Every stream packet sent: { dx, dy, endUs } (endUs: its last bit left the
+     *  wire, i.e. the data line's release after the third frame's stop bit). */
+    this.packets = [];
+    this.streamPacket = null; // the queued stream packet's motion until it is sent
+    this.lastFrameEndNs = null;
 
     this.hostClockLowSince = null;
     this.lastInhibitUs = null;
@@ -196,14 +204,20 @@ export class Ps2Mouse {
         const sent = yield* this.sendByte(this.outQueue[0]);
         if (sent) {
           this.sent.push({ byte: this.outQueue.shift(), timeUs: this.board.timeUs });
+          if (this.outQueue.length === 0 && this.streamPacket) {
+            this.packets.push({ ...this.streamPacket, endUs: this.lastFrameEndNs / US });
+            this.streamPacket = null;
+          }
         }
         continue;
       }
-      const period = 1e9 / this.sampleRate;
+      const period = (1e9 / this.sampleRate) * this.sampleClock;
       const moving = this.pending.dx !== 0 || this.pending.dy !== 0;
       if (this.streaming && moving && now >= this.lastPacketNs + period) {
         this.lastPacketNs = now;
-        this.outQueue.push(...this.packet());
+        const bytes = this.packet();
+        this.streamPacket = { dx: this.lastPacket.dx, dy: this.lastPacket.dy };
+        this.outQueue.push(...bytes);
         continue;
       }
       let untilNs = Infinity;
@@ -226,6 +240,7 @@ export class Ps2Mouse {
     this.pending.dy -= dy;
     this.sentMotion.dx += dx;
     this.sentMotion.dy += dy;
+    this.lastPacket = { dx, dy };
     const status = 0x08 | (dx < 0 ? 0x10 : 0) | (dy < 0 ? 0x20 : 0);
     return [status, dx & 0xff, dy & 0xff];
   }
@@ -254,6 +269,7 @@ export class Ps2Mouse {
       yield this.half / 2;
     }
     board.setDeviceLow(this.dataPin, false);
+    this.lastFrameEndNs = board.timeNs;
     // Gap before the next frame.
     yield this.half;
     return true;
@@ -297,6 +313,7 @@ export class Ps2Mouse {
     this.received.push({ byte, timeUs: board.timeUs, parityOk, inhibitUs });
     // A command cancels whatever the mouse was about to send.
     this.outQueue = [];
+    this.streamPacket = null;
     yield this.replyDelayNs;
     if (!parityOk || bits[9] !== 1) {
       this.outQueue.push(0xfe);

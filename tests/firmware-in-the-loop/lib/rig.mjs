@@ -30,7 +30,12 @@ export function firmwareElfPath() {
   return join(targetDir, 'thumbv6m-none-eabi', 'release', 'foosball-firmware');
 }
 
-export function createRig({ elfPath = firmwareElfPath(), printLog = process.env.FITL_LOG !== '0' } = {}) {
+/**
+ * @param {{ elfPath?: string, printLog?: boolean,
+ *           mouse?: (port: number) => object }} options
+ *   mouse: extra `Ps2Mouse` options per port (clock, timing, sample clock)
+ */
+export function createRig({ elfPath = firmwareElfPath(), printLog = process.env.FITL_LOG !== '0', mouse = () => ({}) } = {}) {
   if (!existsSync(elfPath)) {
     throw new Error(
       `firmware ELF not found at ${elfPath}; build it first: ` +
@@ -43,7 +48,7 @@ export function createRig({ elfPath = firmwareElfPath(), printLog = process.env.
       : undefined,
   });
   const mice = PS2_DATA_GPIO.map(
-    (data, port) => new Ps2Mouse(board, { port, data, clock: PS2_CLOCK_GPIO[port] }),
+    (data, port) => new Ps2Mouse(board, { port, data, clock: PS2_CLOCK_GPIO[port], ...mouse(port) }),
   );
   const host = new UsbHost(board);
   const haptics = HAPTIC_GPIO.map((pin) => board.recordEdges(pin));

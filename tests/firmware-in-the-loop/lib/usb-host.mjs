@@ -14,6 +14,7 @@ const EP0_IN_BUFFER_CONTROL = 0x80;
 const EP15_OUT_BUFFER_CONTROL = 0xfc;
 const BUF_AVAILABLE = 1 << 10;
 const FRAME_NS = 1_000_000;
+const EP_ABORT = 0x60;
 
 export const DESCRIPTOR = { DEVICE: 1, CONFIGURATION: 2, STRING: 3, INTERFACE: 4, ENDPOINT: 5, HID: 0x21, HID_REPORT: 0x22 };
 
@@ -72,10 +73,26 @@ export class UsbHost {
     // polls AVAILABLE (embassy-rp does), so OUT arming is kept here with AVAILABLE
     // still set until the host really sends (`deliverOut`). And the device's
     // interrupt IN buffer waits for the host's next frame.
+    // EP_ABORT (the firmware revokes an armed IN buffer): rp2040js reports the abort
+    // done at once; while an endpoint's bit is set the host's IN token is NAKed
+    // (the pending buffer stays with the device), see `onFrame`.
+    this.epAbort = 0;
+    const writeRegister = usb.writeUint32.bind(usb);
+    usb.writeUint32 = (offset, value) => {
+      if (offset === EP_ABORT) {
+        this.epAbort = value;
+      }
+      writeRegister(offset, value);
+    };
     const original = usb.DPRAMUpdated.bind(usb);
     this.releaseIn = original;
     this.armedOut = new Map(); // endpoint → buffer control offset
     usb.DPRAMUpdated = (offset, value) => {
+      const inBufferControl = offset >= EP0_IN_BUFFER_CONTROL && offset <= EP15_OUT_BUFFER_CONTROL && !(offset & 4);
+      if (inBufferControl && !(value & BUF_AVAILABLE) && (offset - EP0_IN_BUFFER_CONTROL) >> 3 === this.inEndpoint) {
+        // The device disarmed its IN buffer (a revoke): nothing pending any more.
+        this.pendingIn = null;
+      }
       if (value & BUF_AVAILABLE && offset >= EP0_IN_BUFFER_CONTROL && offset <= EP15_OUT_BUFFER_CONTROL) {
         const endpoint = (offset - EP0_IN_BUFFER_CONTROL) >> 3;
         if (offset & 4) {
@@ -179,7 +196,8 @@ export class UsbHost {
 
   onFrame() {
     this.frame++;
-    if (this.pendingIn) {
+    const aborted = this.epAbort & (1 << (this.inEndpoint * 2));
+    if (this.pendingIn && !aborted) {
       const { offset, value } = this.pendingIn;
       this.pendingIn = null;
       this.releaseIn(offset, value);

@@ -76,6 +76,25 @@ impl PaddleAccumulator {
         self.status
     }
 
+    /// The motion and flags so far, leaving the accumulator as it is.
+    pub const fn peek(&self) -> PaddleMotion {
+        PaddleMotion {
+            axial: self.axial,
+            rotation: self.rotation,
+            status: self.status,
+        }
+    }
+
+    /// Removes motion that was sent (an earlier [`peek`](Self::peek)): its counts are
+    /// subtracted (clamped to the `i16` range) and its flags cleared; what arrived
+    /// since stays. `PRESENT` is not a sticky flag and is ignored.
+    pub fn remove(&mut self, sent: &PaddleMotion) {
+        let clamp = |v: i32| v.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16;
+        self.axial = clamp(i32::from(self.axial) - i32::from(sent.axial));
+        self.rotation = clamp(i32::from(self.rotation) - i32::from(sent.rotation));
+        self.status.remove(sent.status);
+    }
+
     /// The period's motion and flags, emptying the accumulator for the next period.
     pub fn take(&mut self) -> PaddleMotion {
         let motion = PaddleMotion {
@@ -92,6 +111,32 @@ impl PaddleAccumulator {
 mod tests {
     use super::*;
     use crate::paddle::MouseAxis;
+
+    #[test]
+    fn removing_a_peek_keeps_what_came_after() {
+        let mut acc = PaddleAccumulator::new();
+        acc.add(10, -3);
+        acc.flag(PaddleStatus::PARITY_ERROR);
+        let sent = acc.peek();
+        acc.add(5, 7);
+        acc.flag(PaddleStatus::FRAMING_ERROR);
+        acc.remove(&sent);
+        assert_eq!((acc.axial(), acc.rotation()), (5, 7));
+        assert_eq!(acc.status(), PaddleStatus::FRAMING_ERROR);
+        acc.remove(&acc.peek());
+        assert_eq!(acc, PaddleAccumulator::new());
+    }
+
+    #[test]
+    fn removing_after_saturation_stays_in_range() {
+        let mut acc = PaddleAccumulator::new();
+        acc.add(i32::from(i16::MAX), 0);
+        let sent = acc.peek();
+        acc.add(-30_000, 0);
+        acc.add(-30_000, 0);
+        acc.remove(&sent);
+        assert_eq!(acc.axial(), i16::MIN);
+    }
 
     #[test]
     fn sums_and_drains() {
