@@ -16,6 +16,8 @@
 //! * [`in_process`]: the board as a [`board_link::Board`] (lockstep or real time).
 //! * [`serve`]: the board as a process serving reports over a Unix socket
 //!   ([`board_link::socket_wire`]).
+//! * [`interactive`]: a person plays the board from the keyboard (`sim serve
+//!   --interactive`).
 //! * [`usbip`]: the board as a USB device over USB/IP.
 //! * [`bench`](mod@bench): how fast the emulation runs.
 #![deny(missing_docs)]
@@ -25,6 +27,7 @@ pub mod board;
 pub mod error;
 pub mod faults;
 pub mod in_process;
+pub mod interactive;
 pub mod motion;
 pub mod pacing;
 pub mod ps2_device;

@@ -135,7 +135,8 @@ impl SocketServer {
 
     fn log(&self, msg: &str) {
         if self.verbose {
-            eprintln!("sim serve: {msg}");
+            // A closed stderr must not stop the board.
+            let _ = writeln!(io::stderr(), "sim serve: {msg}");
         }
     }
 
