@@ -8,8 +8,8 @@
 # Installs Node.js (Debian packages nodejs, npm) if it is missing, then the pinned
 # npm dependencies (`npm ci`, which applies patches/ through the postinstall script).
 #
-# Environment: FIRMWARE_ELF (another ELF), CARGO_TARGET_DIR (where the build went),
-# FITL_LOG=0 (do not print the firmware's defmt log).
+# Environment: FIRMWARE_ELF (another ELF), FIRMWARE_UF2 (another UF2), CARGO_TARGET_DIR
+# (where the build went), FITL_LOG=0 (do not print the firmware's defmt log).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
 
@@ -32,7 +32,19 @@ fi
 step "firmware in the loop: npm ci (rp2040js $(node -p 'require("./package.json").dependencies.rp2040js'), patched)"
 npm ci --no-audit --no-fund --loglevel=error
 
+# The UF2 a builder flashes (firmware/make-uf2, elf2uf2-rs), unless one is given:
+# made again when missing or older than the ELF. test/uf2.test.mjs checks it and
+# test/firmware.test.mjs boots from it.
+repo=$(cd ../.. && pwd)
+target_dir=${CARGO_TARGET_DIR:-target}
+case $target_dir in /*) ;; *) target_dir=$repo/$target_dir ;; esac
+elf=${FIRMWARE_ELF:-$target_dir/thumbv6m-none-eabi/release/foosball-firmware}
+if [ -z "${FIRMWARE_UF2:-}" ] && { ! [ -f "$elf.uf2" ] || [ "$elf" -nt "$elf.uf2" ]; }; then
+    step "firmware in the loop: making the UF2 from $elf"
+    CARGO_TARGET_DIR=$target_dir "$repo/firmware/make-uf2" "$elf" "$elf.uf2"
+fi
+
 step "firmware in the loop: node $(node --version)"
 start=$(date +%s)
-node --test test/firmware.test.mjs test/latency.test.mjs
+node --test test/uf2.test.mjs test/firmware.test.mjs test/latency.test.mjs
 echo "firmware in the loop: passed in $(($(date +%s) - start)) s"

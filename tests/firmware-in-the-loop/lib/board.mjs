@@ -10,8 +10,9 @@ import { readFileSync } from 'node:fs';
 import { RP2040, ConsoleLogger, LogLevel } from 'rp2040js';
 import { Elf } from './elf.mjs';
 import { DefmtDecoder, defmtTable } from './defmt.mjs';
+import { readUf2 } from './uf2.mjs';
 
-const FLASH_BASE = 0x10000000;
+export const FLASH_BASE = 0x10000000;
 const RAM_BASE = 0x20000000;
 const RAM_TOP = 0x20042000;
 /** How often the RTT buffer is drained, emulated nanoseconds. */
@@ -23,9 +24,12 @@ const PIO_IDLE_CHECK_NS = 1000;
 export class Board {
   /**
    * @param {string} elfPath the firmware ELF
-   * @param {{ onLog?: (msg: {level: string, text: string, timeUs: number}) => void }} options
+   * @param {{ onLog?: (msg: {level: string, text: string, timeUs: number}) => void,
+   *           uf2Path?: string }} options
+   *   uf2Path: flash comes from this UF2 (checked block by block, `readUf2`), as the
+   *   bootrom would write it; the ELF then only gives the symbols (RTT, defmt)
    */
-  constructor(elfPath, { onLog } = {}) {
+  constructor(elfPath, { onLog, uf2Path } = {}) {
     this.elf = new Elf(new Uint8Array(readFileSync(elfPath)));
     const rp = new RP2040();
     this.rp = rp;
@@ -42,8 +46,18 @@ export class Board {
     };
     rp.logger = logger;
 
-    // Flash: every loadable segment at its load address.
-    for (const { address, data } of this.elf.loadSegments()) {
+    if (uf2Path) {
+      // Flash as the bootrom writes it from the UF2; RAM starts empty (the reset
+      // handler copies .data from flash).
+      const { start, image } = readUf2(new Uint8Array(readFileSync(uf2Path)), {
+        flashBase: FLASH_BASE,
+        flashBytes: rp.flash.length,
+      });
+      rp.flash.set(image, start - FLASH_BASE);
+      this.bootedFrom = uf2Path;
+    }
+    // Flash: every loadable segment at its load address (unless from a UF2).
+    for (const { address, data } of uf2Path ? [] : this.elf.loadSegments()) {
       if (address >= FLASH_BASE && address + data.length <= FLASH_BASE + rp.flash.length) {
         rp.flash.set(data, address - FLASH_BASE);
       } else if (address >= RAM_BASE && address + data.length <= RAM_TOP) {

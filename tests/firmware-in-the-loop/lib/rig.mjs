@@ -30,19 +30,34 @@ export function firmwareElfPath() {
   return join(targetDir, 'thumbv6m-none-eabi', 'release', 'foosball-firmware');
 }
 
+/** The UF2 made from the ELF: $FIRMWARE_UF2, else `<elf>.uf2` beside it. */
+export function firmwareUf2Path(elfPath = firmwareElfPath()) {
+  return process.env.FIRMWARE_UF2 ? resolve(process.env.FIRMWARE_UF2) : `${elfPath}.uf2`;
+}
+
 /**
- * @param {{ elfPath?: string, printLog?: boolean,
+ * @param {{ elfPath?: string, uf2Path?: string, printLog?: boolean,
  *           mouse?: (port: number) => object }} options
  *   mouse: extra `Ps2Mouse` options per port (clock, timing, sample clock)
+ *   uf2Path: boot from this UF2's flash image (the ELF still gives the symbols)
  */
-export function createRig({ elfPath = firmwareElfPath(), printLog = process.env.FITL_LOG !== '0', mouse = () => ({}) } = {}) {
+export function createRig({
+  elfPath = firmwareElfPath(),
+  uf2Path,
+  printLog = process.env.FITL_LOG !== '0',
+  mouse = () => ({}),
+} = {}) {
   if (!existsSync(elfPath)) {
     throw new Error(
       `firmware ELF not found at ${elfPath}; build it first: ` +
         'cargo build -p foosball-firmware --target thumbv6m-none-eabi --release',
     );
   }
+  if (uf2Path && !existsSync(uf2Path)) {
+    throw new Error(`firmware UF2 not found at ${uf2Path}; make it first: elf2uf2-rs ${elfPath} ${uf2Path}`);
+  }
   const board = new Board(elfPath, {
+    uf2Path,
     onLog: printLog
       ? (m) => console.log(`[fw ${(m.timeUs / 1000).toFixed(3).padStart(9)} ms] ${m.level.padEnd(5)} ${m.text}`)
       : undefined,

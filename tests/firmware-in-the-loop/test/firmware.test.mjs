@@ -3,7 +3,7 @@
 // (each continues from the state the previous one left).
 import { before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { createRig, HAPTIC_GPIO } from '../lib/rig.mjs';
+import { createRig, firmwareUf2Path, HAPTIC_GPIO } from '../lib/rig.mjs';
 import {
   encodeOutReport,
   FORMAT_VERSION,
@@ -71,7 +71,8 @@ describe('firmware in the loop', () => {
   let host;
 
   before(() => {
-    rig = createRig();
+    // Booted from the UF2 a builder flashes, not from the ELF's segments.
+    rig = createRig({ uf2Path: firmwareUf2Path() });
     ({ board, mice, host } = rig);
   });
 
@@ -282,6 +283,7 @@ describe('firmware in the loop', () => {
   }
 
   it('ran without a watchdog reset, a panic or a decode error', () => {
+    assert.equal(board.bootedFrom, firmwareUf2Path(), 'booted from the UF2');
     assert.equal(board.watchdogResets, 0);
     const errors = board.log.filter((m) => m.level === 'ERROR');
     assert.deepEqual(errors, []);
