@@ -16,7 +16,7 @@ use foosball_protocol::LedState;
 pub static STATE: Signal<ThreadModeRawMutex, LedState> = Signal::new();
 
 /// What the LED shows before the host says otherwise.
-const BOOT_STATE: LedState = LedState::SlowBlink;
+pub const BOOT_STATE: LedState = LedState::SlowBlink;
 
 /// Time the LED spends on (and off) per blink: 1 Hz and 4 Hz blinking.
 fn half_period(state: LedState) -> Option<Duration> {

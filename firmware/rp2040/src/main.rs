@@ -13,6 +13,7 @@
 
 mod haptics;
 mod led;
+mod panic;
 mod pins;
 mod ps2_pio;
 mod sensor_loop;
@@ -21,12 +22,12 @@ mod usb_in_flight;
 mod watchdog;
 
 use defmt::unwrap;
+use defmt_rtt as _;
 use embassy_executor::Spawner;
 use embassy_rp::bind_interrupts;
 use embassy_rp::peripherals::{PIO0, PIO1, USB};
 use embassy_rp::pio::{self, Pio};
 use embassy_rp::usb;
-use {defmt_rtt as _, panic_probe as _};
 
 bind_interrupts!(struct Irqs {
     USBCTRL_IRQ => usb_in_flight::TakenHandler, usb::InterruptHandler<USB>;
@@ -38,6 +39,9 @@ bind_interrupts!(struct Irqs {
 async fn main(spawner: Spawner) {
     let board = pins::Board::take(embassy_rp::init(Default::default()));
     defmt::info!("Space Foosball sensor board starting");
+    if let Some(message) = panic::take_last() {
+        defmt::warn!("the previous run panicked: {=str}", message.as_str());
+    }
     pins::log_map();
 
     let watchdog = watchdog::Watchdog::start(board.watchdog);

@@ -26,7 +26,7 @@ use foosball_protocol::usb::{
     ENDPOINT_MAX_PACKET, HID_REPORT_DESCRIPTOR, MANUFACTURER, POLL_INTERVAL_MS, PRODUCT,
     PRODUCT_ID, VENDOR_ID,
 };
-use foosball_protocol::{OutReport, IN_REPORT_LEN};
+use foosball_protocol::{HapticPulse, LedState, OutReport, IN_REPORT_LEN, PADDLES};
 use static_cell::StaticCell;
 
 use crate::{haptics, led, sensor_loop, usb_in_flight};
@@ -72,12 +72,14 @@ impl Usb {
         config.composite_with_iads = false;
         config.max_power = MAX_POWER_MA;
         config.max_packet_size_0 = 64;
+        config.device_release = DEVICE_RELEASE;
 
         static CONFIG_DESCRIPTOR: StaticCell<[u8; 64]> = StaticCell::new();
         static BOS_DESCRIPTOR: StaticCell<[u8; 16]> = StaticCell::new();
         static CONTROL_BUF: StaticCell<[u8; 64]> = StaticCell::new();
         static HID_STATE: StaticCell<hid::State<'static>> = StaticCell::new();
         static OUT_HANDLER: StaticCell<SetReportHandler> = StaticCell::new();
+        static BUS_HANDLER: StaticCell<BusHandler> = StaticCell::new();
 
         let mut builder = Builder::new(
             driver,
@@ -100,11 +102,73 @@ impl Usb {
             HID_STATE.init(hid::State::new()),
             hid_config,
         );
+        builder.handler(BUS_HANDLER.init(BusHandler));
         let (reader, writer) = hid.split();
         Self {
             device: builder.build(),
             writer,
             reader,
+        }
+    }
+}
+
+/// `bcdDevice`: this crate's version as binary-coded decimal `0xJJMN` (major `JJ`,
+/// minor `M`, patch `N`), so a host can tell which firmware it talks to.
+const DEVICE_RELEASE: u16 = bcd_release(
+    env!("CARGO_PKG_VERSION_MAJOR"),
+    env!("CARGO_PKG_VERSION_MINOR"),
+    env!("CARGO_PKG_VERSION_PATCH"),
+);
+
+/// A decimal version component; fails the build above `max` (BCD has no room).
+const fn decimal(digits: &str, max: u16) -> u16 {
+    let bytes = digits.as_bytes();
+    let mut value = 0u16;
+    let mut i = 0;
+    while i < bytes.len() {
+        assert!(
+            bytes[i].is_ascii_digit(),
+            "version component is not a number"
+        );
+        value = value * 10 + (bytes[i] - b'0') as u16;
+        assert!(value <= max, "version component too large for bcdDevice");
+        i += 1;
+    }
+    value
+}
+
+/// `0xJJMN` from the three version components.
+const fn bcd_release(major: &str, minor: &str, patch: &str) -> u16 {
+    let major = decimal(major, 99);
+    ((major / 10) << 12) | ((major % 10) << 8) | (decimal(minor, 9) << 4) | decimal(patch, 9)
+}
+
+/// Bus events: a suspend or a bus reset stops every motor at once (a pulse must not
+/// run on while the host is gone); suspend also turns the LED off (a suspended
+/// device may draw 2.5 mA), a reset puts it back to its power-up blinking (no host
+/// yet) until the host's next OUT report.
+struct BusHandler;
+
+impl BusHandler {
+    fn stop_motors() {
+        haptics::PULSES.signal([HapticPulse::default(); PADDLES]);
+    }
+}
+
+impl embassy_usb::Handler for BusHandler {
+    fn reset(&mut self) {
+        defmt::info!("USB bus reset: motors stopped");
+        Self::stop_motors();
+        led::STATE.signal(led::BOOT_STATE);
+    }
+
+    fn suspended(&mut self, suspended: bool) {
+        if suspended {
+            defmt::info!("USB suspended: motors and LED off");
+            Self::stop_motors();
+            led::STATE.signal(LedState::Off);
+        } else {
+            defmt::info!("USB resumed");
         }
     }
 }

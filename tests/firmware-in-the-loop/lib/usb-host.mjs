@@ -15,6 +15,9 @@ const EP15_OUT_BUFFER_CONTROL = 0xfc;
 const BUF_AVAILABLE = 1 << 10;
 const FRAME_NS = 1_000_000;
 const EP_ABORT = 0x60;
+const SIE_STATUS = 0x50;
+const SIE_SUSPENDED = 1 << 4;
+const SIE_RESUME = 1 << 11;
 
 export const DESCRIPTOR = { DEVICE: 1, CONFIGURATION: 2, STRING: 3, INTERFACE: 4, ENDPOINT: 5, HID: 0x21, HID_REPORT: 0x22 };
 
@@ -83,6 +86,11 @@ export class UsbHost {
         this.epAbort = value;
       }
       writeRegister(offset, value);
+      // SIE_STATUS.SUSPENDED is write-one-to-clear on the RP2040; rp2040js keeps it.
+      if (offset === SIE_STATUS && usb.rawWriteValue & SIE_SUSPENDED) {
+        usb.sieStatus &= ~SIE_SUSPENDED;
+        usb.sieStatusUpdated();
+      }
     };
     const original = usb.DPRAMUpdated.bind(usb);
     this.releaseIn = original;
@@ -213,6 +221,21 @@ export class UsbHost {
     }
   }
 
+  /** Suspends the bus: no more frames (no SOF, no IN tokens); the device sees the
+   *  suspend state (SIE_STATUS.SUSPENDED, DEV_SUSPEND interrupt). */
+  suspend() {
+    this.stopPolling();
+    this.usb.sieStatus |= SIE_SUSPENDED;
+    this.usb.sieStatusUpdated();
+  }
+
+  /** Resume signalling from the host, then frames again. */
+  resume() {
+    this.usb.sieStatus |= SIE_RESUME;
+    this.usb.sieStatusUpdated();
+    this.startPolling();
+  }
+
   /** Queues an OUT report for the interrupt OUT endpoint (sent at a frame). */
   sendOut(bytes) {
     this.outQueue.push(Uint8Array.from(bytes));
@@ -293,6 +316,7 @@ export class UsbHost {
       maxPacket0: device[7],
       vendorId: view.getUint16(8, true),
       productId: view.getUint16(10, true),
+      bcdDevice: view.getUint16(12, true),
       iManufacturer: device[14],
       iProduct: device[15],
       iSerial: device[16],

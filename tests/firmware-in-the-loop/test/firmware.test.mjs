@@ -3,7 +3,9 @@
 // (each continues from the state the previous one left).
 import { before, describe, it } from 'node:test';
 import assert from 'node:assert/strict';
-import { createRig, firmwareUf2Path, HAPTIC_GPIO } from '../lib/rig.mjs';
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { createRig, firmwareUf2Path, HAPTIC_GPIO, LED_GPIO, REPO_ROOT } from '../lib/rig.mjs';
 import {
   encodeOutReport,
   FORMAT_VERSION,
@@ -17,6 +19,16 @@ import {
 } from '../lib/reports.mjs';
 
 const INIT_SEQUENCE = [0xff, 0xf3, 200, 0xe8, 0x03, 0xf4];
+
+/** The firmware crate's version (firmware/rp2040/Cargo.toml) and its bcdDevice. */
+function firmwareVersion() {
+  const toml = readFileSync(join(REPO_ROOT, 'firmware', 'rp2040', 'Cargo.toml'), 'utf8');
+  const text = /^version\s*=\s*"(\d+)\.(\d+)\.(\d+)"/m.exec(toml);
+  assert.ok(text, 'a version in firmware/rp2040/Cargo.toml');
+  const [major, minor, patch] = text.slice(1).map(Number);
+  const bcd = (Math.floor(major / 10) << 12) | (major % 10 << 8) | (minor << 4) | patch;
+  return { text: text.slice(1).join('.'), bcd };
+}
 const CONFIG_SEQUENCE = INIT_SEQUENCE.slice(1);
 
 /** Whether `needle` occurs in `haystack` as a contiguous run. */
@@ -80,6 +92,8 @@ describe('firmware in the loop', () => {
     const info = host.enumerate();
     assert.equal(info.vendorId, USB_IDS.vendorId);
     assert.equal(info.productId, USB_IDS.productId);
+    const version = firmwareVersion();
+    assert.equal(info.bcdDevice, version.bcd, `bcdDevice 0x${info.bcdDevice.toString(16)} for version ${version.text}`);
     assert.equal(info.bcdUSB, 0x0200);
     assert.equal(info.maxPacket0, 64);
     assert.equal(info.manufacturer, USB_IDS.manufacturer);
@@ -281,6 +295,37 @@ describe('firmware in the loop', () => {
       assert.ok(reports.length >= durationMs + 25, 'reporting goes on');
     });
   }
+
+  it('stops a running motor and the LED when the host suspends the bus, and reports again after resume', (t) => {
+    const motor = 2;
+    const pin = HAPTIC_GPIO[motor];
+    const request = [];
+    request[motor] = { strength: 255, durationMs: 300 };
+    host.sendOut(encodeOutReport(request, LED.ON));
+    board.runUs(20_000);
+    assert.equal(board.rp.gpio[pin].outputValue, true, `motor ${motor} running`);
+    assert.equal(board.rp.gpio[LED_GPIO].outputValue, true, 'LED on');
+    const suspendedAt = board.timeUs;
+    host.suspend();
+    const stopped = () => !board.rp.gpio[pin].outputValue && !board.rp.gpio[LED_GPIO].outputValue;
+    // The USB spec gives a suspended device 10 ms to get down to suspend current.
+    assert.ok(board.runUntil(stopped, 10_000, 10), 'motor and LED off after the suspend');
+    const stoppedAfterUs = board.timeUs - suspendedAt;
+    t.diagnostic(`motor ${motor} and LED off ${stoppedAfterUs.toFixed(0)} µs after the suspend`);
+    const edges = rig.haptics[motor].length;
+    board.runUs(50_000);
+    assert.equal(rig.haptics[motor].length, edges, 'the motor stays off while suspended');
+    assert.equal(board.rp.gpio[LED_GPIO].outputValue, false, 'LED stays off');
+    assert.ok(board.logMatching(/USB suspended: motors and LED off/).length > 0);
+
+    const reportFrom = host.inReports.length;
+    host.resume();
+    board.runUs(30_000);
+    const reports = rig.reports(reportFrom);
+    assert.ok(reports.length >= 25, `${reports.length} IN reports in 30 ms after resume`);
+    reports.forEach((r, i) => i && assert.equal(r.sequence, (reports[i - 1].sequence + 1) & 0xffff));
+    assert.equal(rig.haptics[motor].length, edges, 'the pulse does not come back after resume');
+  });
 
   it('ran without a watchdog reset, a panic or a decode error', () => {
     assert.equal(board.bootedFrom, firmwareUf2Path(), 'booted from the UF2');
