@@ -88,26 +88,31 @@ pub fn run(json: bool, steps: u64) -> Result<()> {
                 "undeclared_over_bare": u / bare, "declared_over_bare": d / bare,
             })).collect::<Vec<_>>(),
         });
-        println!("{out}");
+        outln!("{out}");
     } else {
-        println!(
+        outln!(
             "base: {} ({} bodies; gravity, contacts, friction), {steps} steps, median ms/step, \
              best of {rounds} interleaved rounds",
             b.name,
             b.bodies.len()
         );
-        println!(
+        outln!(
             "{:<20} {:>9} {:>14} {:>12} {:>13} {:>11}",
-            "effect", "bare ms", "undeclared ms", "declared ms", "undecl/bare", "decl/bare"
+            "effect",
+            "bare ms",
+            "undeclared ms",
+            "declared ms",
+            "undecl/bare",
+            "decl/bare"
         );
         for (n, bare, u, d) in &rows {
-            println!(
+            outln!(
                 "{n:<20} {bare:>9.4} {u:>14.4} {d:>12.4} {:>13.3} {:>11.3}",
                 u / bare,
                 d / bare
             );
         }
-        println!(
+        outln!(
             "bare: no restitution, rolling resistance or damping data; undeclared: the data \
              present, effect not declared\n(contacts+friction row: 'undeclared' is the scene \
              with gravity only)"

@@ -1,16 +1,39 @@
-//! `vphys`: the Virtual Physics command line — Table 3 and peer comparisons.
+//! `vphys`: the Virtual Physics command line — scenes, benchmarks, the accuracy report, Table 3
+//! and peer comparisons. Every error ends the program with one line on stderr and a documented
+//! exit code (see `exit.rs`).
 //!
 //! "The paper" and its Table 3 refer to Bang, Heo, Kim and Kim, "Space Foosball: Coupling
 //! Tangible Interfaces with a Real-time Game Physics Engine"; what the project takes from
 //! it, section by section, is in docs/paper.md in the repository.
 
+/// `writeln!` to stdout, returning the I/O error (a closed pipe) to the caller instead of
+/// panicking as `println!` does.
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($arg)*)?
+    }};
+}
+
+/// `write!` to stdout; see `outln!`.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        write!(std::io::stdout().lock(), $($arg)*)?
+    }};
+}
+
 mod accuracy;
+mod bodies;
 mod effects;
+mod exit;
 mod parry_peer;
 mod peers;
 mod rapier_peer;
 mod run;
 mod table3;
+
+use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -37,26 +60,35 @@ enum Cmd {
         #[arg(long)]
         no_time: bool,
     },
-    /// Steps a scene (file or built-in name) and prints per-step metrics as JSON lines.
+    /// Steps a scene (file or built-in name) and prints per-step metrics as JSON lines, or
+    /// with --bodies each body's pose and velocity.
     Run {
         /// Scene file (JSON) or built-in name (towers-1120, pyramid-1240, towers-80, pyramid-55, ball-roll, ball-wall).
         scene: String,
-        /// Steps (default: the scene's `steps`, else 600).
-        #[arg(long)]
+        /// Steps (default: the scene's `steps`, else 600; at most 10⁷).
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..=run::MAX_STEPS))]
         steps: Option<u64>,
         /// Force sleeping on or off.
         #[arg(long)]
         sleeping: Option<bool>,
-        /// Print every N-th step.
-        #[arg(long, default_value_t = 1)]
+        /// Print every N-th step (and the last).
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=run::MAX_STEPS))]
         every: u64,
+        /// Instead of one line per printed step, one line per body and printed step: position
+        /// (m), rotation as a unit quaternion [w, x, y, z], linear (m/s) and angular (rad/s)
+        /// velocity, all in the world frame, and the 3D distance from the start (m).
+        #[arg(long)]
+        bodies: bool,
+        /// Only the named bodies (repeatable; implies --bodies).
+        #[arg(long = "body", value_name = "NAME")]
+        body: Vec<String>,
     },
     /// Times a scene: ms per step (median, mean, worst) as JSON.
     Bench {
         /// Scene file or built-in name.
         scene: String,
-        /// Steps (default: the scene's `steps`, else 600).
-        #[arg(long)]
+        /// Steps (default: the scene's `steps`, else 600; at most 10⁷).
+        #[arg(long, value_parser = clap::value_parser!(u64).range(1..=run::MAX_STEPS))]
         steps: Option<u64>,
         /// Force sleeping on or off.
         #[arg(long)]
@@ -82,8 +114,8 @@ enum Cmd {
         /// One JSON object instead of a table.
         #[arg(long)]
         json: bool,
-        /// Steps per measurement.
-        #[arg(long, default_value_t = 200)]
+        /// Steps per measurement (1 … 10⁵).
+        #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..=100_000))]
         steps: u64,
     },
     /// What accuracy costs in time: reference problems × integrators × a sweep of steps;
@@ -109,8 +141,41 @@ enum Cmd {
     },
 }
 
-fn main() -> Result<()> {
-    let cli = Cli::parse();
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage(&e),
+    };
+    exit::finish(dispatch(cli))
+}
+
+/// `--help` and `--version` print and succeed; any other argument error is one line, status 1.
+fn usage(e: &clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    match e.kind() {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            // A closed stdout while printing help is not an error worth a message.
+            let _ = e.print();
+            ExitCode::SUCCESS
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            eprintln!("error: a command is missing; see `vphys --help`");
+            ExitCode::from(1)
+        }
+        _ => {
+            let text = e.render().to_string();
+            let first = text.lines().next().unwrap_or("invalid arguments");
+            let first = first.strip_prefix("error: ").unwrap_or(first);
+            match text.lines().find_map(|l| l.strip_prefix("Usage: ")) {
+                Some(u) => eprintln!("error: {first} (usage: {u})"),
+                None => eprintln!("error: {first}"),
+            }
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn dispatch(cli: Cli) -> Result<()> {
     match cli.cmd {
         Cmd::Table3 { json, no_time } => table3::run(json, !no_time),
         Cmd::Peers { cmd } => peers::run(cmd),
@@ -132,7 +197,16 @@ fn main() -> Result<()> {
             steps,
             sleeping,
             every,
-        } => run::run(&scene, steps, sleeping, every),
+            bodies,
+            body,
+        } => {
+            let output = if bodies || !body.is_empty() {
+                run::Output::Bodies(body)
+            } else {
+                run::Output::Steps
+            };
+            run::run(&scene, steps, sleeping, every, &output)
+        }
         Cmd::Bench {
             scene,
             steps,

@@ -107,15 +107,19 @@ pub fn run(json: bool) -> Result<()> {
                                    "parry_ns": p, "parry_points": pp})
             })
             .collect();
-        println!("{}", serde_json::json!({ "rows": r }));
+        outln!("{}", serde_json::json!({ "rows": r }));
     } else {
-        println!("box–box manifold, ns per call (best of 5 × {n}); ours f64, parry3d 0.31 f32");
-        println!(
+        outln!("box–box manifold, ns per call (best of 5 × {n}); ours f64, parry3d 0.31 f32");
+        outln!(
             "{:<30} {:>9} {:>7} {:>9} {:>7}",
-            "case", "ours ns", "points", "parry ns", "points"
+            "case",
+            "ours ns",
+            "points",
+            "parry ns",
+            "points"
         );
         for (name, o, op, p, pp) in rows {
-            println!("{name:<30} {o:>9.1} {op:>7} {p:>9.1} {pp:>7}");
+            outln!("{name:<30} {o:>9.1} {op:>7} {p:>9.1} {pp:>7}");
         }
     }
     Ok(())
@@ -124,9 +128,10 @@ pub fn run(json: bool) -> Result<()> {
 /// Without the feature: says how to rebuild.
 #[cfg(not(feature = "rapier-peer"))]
 pub fn run(_json: bool) -> Result<()> {
-    eprintln!(
-        "vphys: built without parry; rebuild with\n  cargo run -p virtual-physics-cli --release \
-         --features rapier-peer -- peers parry"
-    );
-    std::process::exit(2);
+    Err(crate::exit::PeerMissing(
+        "vphys was built without the rapier peer; rebuild with `cargo run -p \
+         virtual-physics-cli --release --features rapier-peer -- peers parry`"
+            .to_string(),
+    )
+    .into())
 }

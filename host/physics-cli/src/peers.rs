@@ -77,8 +77,7 @@ impl Python {
             .map(|o| o.status.success())
             .unwrap_or(false);
         if !ok {
-            eprintln!("vphys: {INSTALL}");
-            std::process::exit(2);
+            return Err(crate::exit::PeerMissing(INSTALL.to_string()).into());
         }
         Ok(())
     }
@@ -151,7 +150,7 @@ pub fn run(cmd: PeersCmd) -> Result<()> {
     match cmd {
         PeersCmd::Models { out } => {
             for p in write_models(&out, &peer_models())? {
-                println!("wrote {p}");
+                outln!("wrote {p}");
             }
         }
         PeersCmd::Fixtures { out, py } => {
@@ -167,7 +166,7 @@ pub fn run(cmd: PeersCmd) -> Result<()> {
             let mut args = vec!["fixtures".to_string()];
             args.extend(write_models(&dir, &peer_models())?);
             args.extend(["--out".to_string(), out.display().to_string()]);
-            print!("{}", py.run(&args)?);
+            out!("{}", py.run(&args)?);
             std::fs::remove_dir_all(&dir).ok();
         }
         PeersCmd::Rapier {
@@ -204,20 +203,28 @@ pub fn run(cmd: PeersCmd) -> Result<()> {
                 rows,
             };
             if json {
-                println!("{}", serde_json::to_string(&report)?);
+                outln!("{}", serde_json::to_string(&report)?);
             } else {
-                println!(
+                outln!(
                     "forward dynamics (ABA), f64, µs per call; Pinocchio {} via abaInParallel(1 thread)",
                     report.pinocchio
                 );
-                println!(
+                outln!(
                     "{:<10} {:>5} {:>10} {:>15} {:>22}",
-                    "model", "dofs", "ours µs", "pinocchio µs", "ratio (pinocchio/ours)"
+                    "model",
+                    "dofs",
+                    "ours µs",
+                    "pinocchio µs",
+                    "ratio (pinocchio/ours)"
                 );
                 for r in &report.rows {
-                    println!(
+                    outln!(
                         "{:<10} {:>5} {:>10.3} {:>15.3} {:>22.2}",
-                        r.model, r.dofs, r.ours_us, r.pinocchio_us, r.ratio
+                        r.model,
+                        r.dofs,
+                        r.ours_us,
+                        r.pinocchio_us,
+                        r.ratio
                     );
                 }
             }

@@ -164,15 +164,24 @@ fn rapier_run(
     _: u64,
     _: RapierSettings,
 ) -> Result<(f64, f64)> {
-    eprintln!(
-        "vphys: built without rapier; rebuild with\n  cargo run -p virtual-physics-cli --release \
-         --features rapier-peer -- peers rapier"
-    );
-    std::process::exit(2);
+    Err(missing())
+}
+
+/// The error of a build without the feature (exit status 2).
+fn missing() -> anyhow::Error {
+    crate::exit::PeerMissing(
+        "vphys was built without the rapier peer; rebuild with `cargo run -p \
+         virtual-physics-cli --release --features rapier-peer -- peers rapier`"
+            .to_string(),
+    )
+    .into()
 }
 
 /// Runs the comparison and prints two tables, or `{"rows": [...], "matched": [...]}`.
 pub fn run(scenes: &[String], steps: Option<u64>, json: bool) -> Result<()> {
+    if cfg!(not(feature = "rapier-peer")) {
+        return Err(missing());
+    }
     let mut rows = Vec::new();
     let mut matched = Vec::new();
     for name in scenes {
@@ -217,18 +226,24 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool) -> Result<()> {
         }
     }
     if json {
-        println!(
+        outln!(
             "{}",
             serde_json::json!({ "rows": rows, "matched": matched })
         );
     } else {
-        println!("median ms per step, one thread; ours f64, rapier3d 0.36 f32 at its defaults; drift = largest move of a box (m)");
-        println!(
+        outln!("median ms per step, one thread; ours f64, rapier3d 0.36 f32 at its defaults; drift = largest move of a box (m)");
+        outln!(
             "{:<14} {:>8} {:>10} {:>10} {:>8} {:>14} {:>16}",
-            "scene", "sleeping", "ours ms", "rapier ms", "ratio", "ours drift m", "rapier drift m"
+            "scene",
+            "sleeping",
+            "ours ms",
+            "rapier ms",
+            "ratio",
+            "ours drift m",
+            "rapier drift m"
         );
         for r in &rows {
-            println!(
+            outln!(
                 "{:<14} {:>8} {:>10.3} {:>10.3} {:>8.2} {:>14.4} {:>16.4}",
                 r.scene,
                 r.sleeping,
@@ -239,9 +254,9 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool) -> Result<()> {
                 r.rapier_max_drift_m
             );
         }
-        println!();
-        println!("sleeping off, rapier with the scene's solver settings (iterations = our substeps, our contact Hz)");
-        println!(
+        outln!();
+        outln!("sleeping off, rapier with the scene's solver settings (iterations = our substeps, our contact Hz)");
+        outln!(
             "{:<14} {:>10} {:>8} {:>10} {:>10} {:>8} {:>14} {:>16}",
             "scene",
             "iterations",
@@ -253,7 +268,7 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool) -> Result<()> {
             "rapier drift m"
         );
         for r in &matched {
-            println!(
+            outln!(
                 "{:<14} {:>10} {:>8.0} {:>10.3} {:>10.3} {:>8.2} {:>14.4} {:>16.4}",
                 r.scene,
                 r.rapier_iterations,

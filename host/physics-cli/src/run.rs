@@ -1,19 +1,39 @@
 //! `vphys run SCENE` (JSON lines per step) and `vphys bench SCENE` (ms per step as JSON).
 
+use std::path::Path;
 use std::time::Instant;
 
-use anyhow::Result;
+use anyhow::{bail, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use virtual_physics::geometry::V3;
 use virtual_physics::pipeline::{Effect, World};
 use virtual_physics::scene::{builtin, SceneFile};
 
-/// A scene file path, or a built-in name.
+use crate::bodies;
+
+/// The most steps `run` and `bench` take (`bench` keeps one sample per step).
+pub const MAX_STEPS: u64 = 10_000_000;
+
+/// A scene file path, or a built-in name. A file of that name wins over a built-in; an
+/// argument that names no built-in scene and looks like a path (has a `/` or ends in `.json`)
+/// is reported as a missing file.
 pub fn load(scene: &str, sleeping: Option<bool>) -> Result<SceneFile> {
-    let mut s = if std::path::Path::new(scene).exists() {
+    let path = Path::new(scene);
+    let mut s = if path.exists() {
         SceneFile::from_path(scene)?
-    } else {
+    } else if builtin::NAMES.contains(&scene) {
         builtin::by_name(scene)?
+    } else if scene.contains('/')
+        || scene.contains(std::path::MAIN_SEPARATOR)
+        || path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    {
+        bail!("scene file '{scene}' does not exist");
+    } else {
+        bail!(
+            "'{scene}' is neither a scene file nor a built-in scene (built-in: {})",
+            builtin::NAMES.join(", ")
+        );
     };
     if let Some(on) = sleeping {
         s.effects.retain(|e| *e != Effect::Sleeping);
@@ -36,56 +56,80 @@ fn bar(n: u64) -> ProgressBar {
     pb
 }
 
-/// Largest horizontal (x, y) and vertical displacement of the dynamic bodies from `start` (m).
-pub fn drift(world: &World, start: &[V3]) -> (f64, f64) {
-    let mut h: f64 = 0.0;
-    let mut v: f64 = 0.0;
-    for (i, p0) in start.iter().enumerate() {
-        if world.bodies.inv_mass[i] > 0.0 {
-            let d = world.bodies.pos[i] - p0;
-            h = h.max((d.x * d.x + d.y * d.y).sqrt());
-            v = v.max(d.z.abs());
-        }
-    }
-    (h, v)
+/// What `vphys run` prints at each printed step.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Output {
+    /// One line of world totals and counters.
+    Steps,
+    /// One line per body (the named bodies, or all when the list is empty).
+    Bodies(Vec<String>),
 }
 
 /// `vphys run`.
-pub fn run(scene: &str, steps: Option<u64>, sleeping: Option<bool>, every: u64) -> Result<()> {
+pub fn run(
+    scene: &str,
+    steps: Option<u64>,
+    sleeping: Option<bool>,
+    every: u64,
+    output: &Output,
+) -> Result<()> {
     let s = load(scene, sleeping)?;
     let mut w = s.build()?;
-    let n = steps.or(s.steps).unwrap_or(600);
-    let start = w.bodies.pos.clone();
+    let n = steps.or(s.steps).unwrap_or(600).min(MAX_STEPS);
+    let selected = match output {
+        Output::Bodies(names) => Some(bodies::select(&w, names)?),
+        Output::Steps => None,
+    };
+    let start = bodies::positions(&w);
     let pb = bar(n);
     for k in 1..=n {
         w.step()?;
         pb.inc(1);
         if k % every.max(1) == 0 || k == n {
-            let p = w.bodies.linear_momentum();
-            let l = w.bodies.angular_momentum();
-            let (dh, dv) = drift(&w, &start);
-            let stages: Vec<&str> = w.counters.stages().map(|s| s.name()).collect();
-            let c = &w.counters;
-            let line = serde_json::json!({
-                "step": k, "t": w.time, "energy": w.energy(),
-                "momentum": [p.x, p.y, p.z], "angular_momentum": [l.x, l.y, l.z],
-                "max_penetration": w.max_penetration(),
-                "max_displacement": dh.max(dv), "max_horizontal_displacement": dh,
-                "stages": stages, "pairs_tested": c.pairs_tested, "contacts": c.contacts,
-                "solver_iterations": c.solver_iterations, "awake": c.awake_bodies,
-                "contact_colours": c.contact_colours, "contact_groups": c.contact_groups,
+            let printed: Result<()> = pb.suspend(|| {
+                match &selected {
+                    Some(ids) => {
+                        for &i in ids {
+                            outln!(
+                                "{}",
+                                serde_json::to_string(&bodies::line(&w, k, i, &start))?
+                            );
+                        }
+                    }
+                    None => outln!("{}", step_line(&w, k, &start)),
+                }
+                Ok(())
             });
-            pb.suspend(|| println!("{line}"));
+            printed?;
         }
     }
     pb.finish_and_clear();
     Ok(())
 }
 
+/// The world totals and counters of one step, as one JSON object.
+fn step_line(w: &World, k: u64, start: &[virtual_physics::geometry::V3]) -> serde_json::Value {
+    let p = w.bodies.linear_momentum();
+    let l = w.bodies.angular_momentum();
+    let d = bodies::displacement(w, start);
+    let stages: Vec<&str> = w.counters.stages().map(|s| s.name()).collect();
+    let c = &w.counters;
+    serde_json::json!({
+        "step": k, "t": w.time, "energy": w.energy(),
+        "momentum": [p.x, p.y, p.z], "angular_momentum": [l.x, l.y, l.z],
+        "max_penetration": w.max_penetration(),
+        "max_displacement": d.max_3d, "max_horizontal_displacement": d.max_horizontal,
+        "max_vertical_displacement": d.max_vertical,
+        "stages": stages, "pairs_tested": c.pairs_tested, "contacts": c.contacts,
+        "solver_iterations": c.solver_iterations, "awake": c.awake_bodies,
+        "contact_colours": c.contact_colours, "contact_groups": c.contact_groups,
+    })
+}
+
 /// Times `n` steps of a world; returns ms per step.
 pub fn time_steps(w: &mut World, n: u64, show: bool) -> Result<Vec<f64>> {
     let pb = if show { bar(n) } else { ProgressBar::hidden() };
-    let mut t = Vec::with_capacity(n as usize);
+    let mut t = Vec::with_capacity(n.min(MAX_STEPS) as usize);
     for _ in 0..n {
         let t0 = Instant::now();
         w.step()?;
@@ -105,7 +149,6 @@ pub fn stats(t: &[f64]) -> (f64, f64, f64) {
     (med, mean, s.last().copied().unwrap_or(0.0))
 }
 
-/// `vphys bench`.
 /// Solver settings of `vphys bench` that replace the scene's (the substep sweep in the
 /// README is made with them).
 #[derive(Debug, Clone, Copy, Default)]
@@ -154,22 +197,23 @@ pub fn bench(
         );
         w.settings.contact_hertz_cap = cap;
     }
-    let n = steps.or(s.steps).unwrap_or(600);
-    let start = w.bodies.pos.clone();
+    let n = steps.or(s.steps).unwrap_or(600).min(MAX_STEPS);
+    let start = bodies::positions(&w);
     let t = time_steps(&mut w, n, true)?;
     let (med, mean, worst) = stats(&t);
-    let (dh, dv) = drift(&w, &start);
+    let d = bodies::displacement(&w, &start);
     let out = serde_json::json!({
         "scene": s.name, "steps": n, "bodies": w.bodies.len(),
         "sleeping": s.effects.contains(&Effect::Sleeping),
         "median_ms": med, "mean_ms": mean, "worst_ms": worst,
-        "max_horizontal_drift_m": dh, "max_vertical_drift_m": dv,
+        "max_drift_m": d.max_3d,
+        "max_horizontal_drift_m": d.max_horizontal, "max_vertical_drift_m": d.max_vertical,
         "max_penetration_m": w.max_penetration(),
         "substeps": w.settings.substeps, "contact_hertz": w.settings.contact_hertz,
         "soft_contacts": w.settings.soft_contacts,
         "batch_contacts": w.settings.batch_contacts,
         "contact_hertz_cap": w.settings.contact_hertz_cap,
     });
-    println!("{out}");
+    outln!("{out}");
     Ok(())
 }

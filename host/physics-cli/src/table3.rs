@@ -10,18 +10,34 @@ fn ns(m: &Measured) -> String {
 pub fn run(json: bool, timed: bool) -> Result<()> {
     let t = measure(timed);
     if json {
-        println!("{}", serde_json::to_string(&t)?);
+        outln!("{}", serde_json::to_string(&t)?);
         return Ok(());
     }
-    println!(
+    outln!(
         "{:<22} | {:>17} {:>8} | {:>17} {:>8} | {:>17} {:>17}",
-        "", "geometric (ours)", "", "matrix (ours)", "", "paper geometric", "paper matrix"
+        "",
+        "geometric (ours)",
+        "",
+        "matrix (ours)",
+        "",
+        "paper geometric",
+        "paper matrix"
     );
-    println!(
+    outln!(
         "{:<22} | {:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} {:>8}",
-        "operation", "×", "+", "ns", "×", "+", "ns", "×", "+", "×", "+"
+        "operation",
+        "×",
+        "+",
+        "ns",
+        "×",
+        "+",
+        "ns",
+        "×",
+        "+",
+        "×",
+        "+"
     );
-    println!("{}", "-".repeat(120));
+    outln!("{}", "-".repeat(120));
     for r in &t.rows {
         let div = |m: &Measured| {
             if m.div > 0 {
@@ -30,7 +46,7 @@ pub fn run(json: bool, timed: bool) -> Result<()> {
                 m.mul.to_string()
             }
         };
-        println!(
+        outln!(
             "{:<22} | {:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} | {:>8} {:>8} {:>8} {:>8}",
             r.op,
             div(&r.geometric),
@@ -45,7 +61,7 @@ pub fn run(json: bool, timed: bool) -> Result<()> {
             r.paper.matrix.add
         );
     }
-    println!(
+    outln!(
         "\ncounts: measured by running the same generic code on a counting scalar; \
          ns: f64, best of 7 loops of ~10 ms with black_box."
     );

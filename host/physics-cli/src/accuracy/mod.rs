@@ -55,10 +55,10 @@ pub fn run(quick: bool, json: bool, out: Option<PathBuf>) -> Result<()> {
         &out.join("accuracy.svg"),
     )?;
     if json {
-        println!("{}", serde_json::to_string(&report)?);
+        outln!("{}", serde_json::to_string(&report)?);
     } else {
-        println!("{}", table::summary(&report));
-        println!("wrote {}/accuracy.{{md,json,png,svg}}", out.display());
+        outln!("{}", table::summary(&report));
+        outln!("wrote {}/accuracy.{{md,json,png,svg}}", out.display());
     }
     Ok(())
 }
@@ -67,9 +67,9 @@ pub fn run(quick: bool, json: bool, out: Option<PathBuf>) -> Result<()> {
 pub fn step_cost(json: bool) -> Result<()> {
     let costs = free_body::step_cost(256, 400, 15);
     if json {
-        println!("{}", serde_json::json!({ "step_cost": costs }));
+        outln!("{}", serde_json::json!({ "step_cost": costs }));
     } else {
-        println!("{}", table::step_costs(&costs));
+        outln!("{}", table::step_costs(&costs));
     }
     Ok(())
 }
