@@ -69,13 +69,21 @@ fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
+/// Decodes plain hex (pairs of `0-9a-fA-F`, nothing else: no sign, no spaces, no
+/// prefix); `None` for anything else.
 fn unhex(text: &str) -> Option<Vec<u8>> {
-    if text.len() & 1 != 0 {
+    fn digit(c: u8) -> Option<u8> {
+        // `to_digit` takes only the 16 hex digits, unlike `from_str_radix`, which
+        // also takes a leading `+`.
+        char::from(c).to_digit(16).map(|d| d as u8)
+    }
+    let bytes = text.as_bytes();
+    if bytes.len() % 2 != 0 {
         return None;
     }
-    (0..text.len())
-        .step_by(2)
-        .map(|i| u8::from_str_radix(text.get(i..i + 2)?, 16).ok())
+    bytes
+        .chunks_exact(2)
+        .map(|pair| Some(digit(pair[0])? << 4 | digit(pair[1])?))
         .collect()
 }
 
@@ -279,5 +287,32 @@ mod tests {
         assert!(MatchRecording::from_json("{}").is_err());
         let text = rec.to_json().replace("\"version\":1", "\"version\":2");
         assert!(MatchRecording::from_json(&text).is_err());
+    }
+
+    #[test]
+    fn report_hex_takes_plain_hex_digits_only() {
+        assert_eq!(unhex("00ff7Fa0"), Some(vec![0x00, 0xff, 0x7f, 0xa0]));
+        assert_eq!(unhex(""), Some(vec![]));
+        // `u8::from_str_radix` would take "+1" as 1; none of these is plain hex.
+        for bad in ["+1", "+f", "-1", " 1", "1 ", "0x", "g0", "é0", "0", "abc"] {
+            assert_eq!(unhex(bad), None, "{bad:?}");
+        }
+        // Through a recording: a sign in place of a leading zero digit is refused.
+        let mut rec = MatchRecording::of_reports(7, Table::paper(), RulesConfig::default());
+        rec.push_report(&InReport::default());
+        let RecordedInput::Reports(hexes) = &rec.input else {
+            unreachable!("a report recording")
+        };
+        let good = hexes[0].clone();
+        let zero_pair = (0..good.len())
+            .step_by(2)
+            .find(|&i| good.as_bytes()[i] == b'0')
+            .expect("a default report has a byte below 0x10");
+        let mut signed = good.clone();
+        signed.replace_range(zero_pair..zero_pair + 1, "+");
+        rec.input = RecordedInput::Reports(vec![signed]);
+        let err = rec.reports().unwrap_err();
+        assert!(err.to_string().contains("report 0: not hex"), "{err}");
+        assert!(MatchRecording::from_json(&rec.to_json()).is_err());
     }
 }
