@@ -9,8 +9,10 @@
 //! ```
 //!
 //! Playback interpolates linearly between samples and holds the last pose after the
-//! end. Times must be strictly increasing.
+//! end. Times must be strictly increasing; poses finite and within the limits of motion
+//! scripts ([`super::script::MAX_AXIAL_M`], [`super::script::MAX_ANGLE_RAD`]).
 
+use super::script::check_pose;
 use super::{MotionSource, RodPose, RodPoses};
 use foosball_protocol::PADDLES;
 use serde::{Deserialize, Serialize};
@@ -188,10 +190,12 @@ impl Playback {
             }
         }
         for (i, sample) in file.samples.iter().enumerate() {
-            if let Some(rod) = sample.poses.iter().position(|p| !p.is_finite()) {
-                return Err(RecordingError::Invalid(format!(
-                    "samples[{i}]: pose of rod {rod} is not finite"
-                )));
+            for (rod, pose) in sample.poses.iter().enumerate() {
+                // The limits of motion scripts: beyond them, interpolating between two
+                // huge poses overflows to a non-finite pose.
+                check_pose(*pose).map_err(|reason| {
+                    RecordingError::Invalid(format!("samples[{i}]: rod {rod}: {reason}"))
+                })?;
             }
         }
         Ok(Self {
@@ -292,5 +296,34 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("JSON"), "{e}");
+    }
+
+    #[test]
+    fn recordings_with_poses_beyond_the_limits_rejected() {
+        // Two samples at ±1e308 m: interpolating between them overflowed to a NaN pose.
+        let at = |axial: f64| {
+            let pose = format!(r#"{{"axial_m":{axial:e},"angle_rad":0}}"#);
+            format!("[{}]", [pose.as_str(); 8].join(","))
+        };
+        let text = |a: f64, b: f64| {
+            format!(
+                r#"{{"version":1,"samples":[{{"t_us":0,"poses":{}}},{{"t_us":10,"poses":{}}}]}}"#,
+                at(a),
+                at(b)
+            )
+        };
+        let e = Playback::from_json(&text(-1e308, 1e308))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("samples[0]: rod 0") && e.contains("beyond"),
+            "{e}"
+        );
+        let e = Playback::from_json(&text(0.0, 10.5))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("samples[1]"), "{e}");
+        let mut ok = Playback::from_json(&text(-10.0, 10.0)).expect("within the limits");
+        assert_eq!(ok.poses_at(5)[3].axial_m, 0.0);
     }
 }

@@ -317,7 +317,9 @@ fn pose_in(pieces: &[Piece], start: RodPose, from_index: usize, t_us: f64) -> (R
     (piece.from.lerp(piece.to, f), i)
 }
 
-fn check_pose(pose: RodPose) -> Result<(), String> {
+/// Checks a pose is finite and within [`MAX_AXIAL_M`] and [`MAX_ANGLE_RAD`]; the reason
+/// otherwise.
+pub(super) fn check_pose(pose: RodPose) -> Result<(), String> {
     if !pose.is_finite() {
         return Err(format!("pose must be finite, got {pose:?}"));
     }

@@ -21,7 +21,8 @@
 //!
 //! **File** ([`Calibration::save`], [`Calibration::load`]): JSON,
 //! `{"format":"space-foosball-calibration","version":1,"paddles":[{"matrix":[[m00,m01],[m10,m11]],"offset":[s,a]}, … 8 entries]}`,
-//! written atomically ([`crate::atomic_file`]); loading checks the shape, finiteness
+//! written atomically ([`crate::atomic_file`]); loading checks the shape, finiteness,
+//! the ranges ([`MAX_GAIN_PER_COUNT`], [`MAX_OFFSET_SLIDE_M`], [`MAX_OFFSET_ANGLE_RAD`])
 //! and that every matrix is invertible. [`Calibration::load_or_default`] never fails:
 //! a missing file gives the defaults, a bad one the defaults and a warning.
 
@@ -39,6 +40,18 @@ pub const DEFAULT_ROD_RADIUS_M: f64 = 0.008;
 pub const FILE_FORMAT: &str = "space-foosball-calibration";
 /// The version of the calibration file format.
 pub const FILE_VERSION: u32 = 1;
+
+/// Largest magnitude of a matrix entry: metres of slide or radians of angle per count.
+/// The nominal map is 1.25e-4 m and 0.016 rad per count; a sensor whose single count
+/// moves the rod a metre or turns it a radian does not exist, and larger gains turn the
+/// count sums of a long match into infinite poses.
+pub const MAX_GAIN_PER_COUNT: f64 = 1.0;
+/// Largest magnitude of the slide offset (the slide when tracking starts), metres: more
+/// than any table's width.
+pub const MAX_OFFSET_SLIDE_M: f64 = 1.0;
+/// Largest magnitude of the angle offset (the angle when tracking starts, whole turns
+/// included), radians.
+pub const MAX_OFFSET_ANGLE_RAD: f64 = 1000.0;
 
 /// A calibration matrix is rejected when `|det| ≤ SINGULAR_TOLERANCE · |m00 m11| +
 /// |m01 m10|`-scale, i.e. when its rows are parallel to about one part in 10⁹.
@@ -69,6 +82,19 @@ pub enum CalibrationError {
     NotFinite {
         /// The paddle (port).
         paddle: usize,
+    },
+    /// A number is outside its physical range ([`MAX_GAIN_PER_COUNT`],
+    /// [`MAX_OFFSET_SLIDE_M`], [`MAX_OFFSET_ANGLE_RAD`]).
+    #[error("paddle {paddle}: calibration {field} = {value:e} is beyond ±{max}")]
+    OutOfRange {
+        /// The paddle (port).
+        paddle: usize,
+        /// Which number: `matrix[r][c]`, `offset[0]` (slide, m) or `offset[1]` (angle, rad).
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// The largest magnitude allowed.
+        max: f64,
     },
     /// The matrix cannot be inverted: the two readings are not independent.
     #[error("paddle {paddle}: calibration matrix is singular (det = {det:e})")]
@@ -152,12 +178,35 @@ impl PaddleCalibration {
         m[0][0] * m[1][1] - m[0][1] * m[1][0]
     }
 
-    /// Checks every value is finite and the matrix invertible; `paddle` names it in the
-    /// error.
+    /// Checks every value is finite and within its range, and the matrix invertible;
+    /// `paddle` names it in the error.
     pub fn validate(&self, paddle: usize) -> Result<(), CalibrationError> {
         let values = self.matrix.iter().flatten().chain(self.offset.iter());
         if values.clone().any(|v| !v.is_finite()) {
             return Err(CalibrationError::NotFinite { paddle });
+        }
+        const MATRIX: [[&str; 2]; 2] = [
+            ["matrix[0][0]", "matrix[0][1]"],
+            ["matrix[1][0]", "matrix[1][1]"],
+        ];
+        let ranged = MATRIX
+            .iter()
+            .flatten()
+            .zip(self.matrix.iter().flatten())
+            .map(|(&field, &value)| (field, value, MAX_GAIN_PER_COUNT))
+            .chain([
+                ("offset[0]", self.offset[0], MAX_OFFSET_SLIDE_M),
+                ("offset[1]", self.offset[1], MAX_OFFSET_ANGLE_RAD),
+            ]);
+        for (field, value, max) in ranged {
+            if value.abs() > max {
+                return Err(CalibrationError::OutOfRange {
+                    paddle,
+                    field,
+                    value,
+                    max,
+                });
+            }
         }
         let m = &self.matrix;
         let scale = (m[0][0] * m[1][1]).abs() + (m[0][1] * m[1][0]).abs();
@@ -423,5 +472,49 @@ mod tests {
             c.validate(),
             Err(CalibrationError::Singular { paddle: 5, .. })
         ));
+    }
+
+    #[test]
+    fn validation_rejects_gains_and_offsets_out_of_range() {
+        // A gain of 1e300 per count made 32767 counts an infinite angle, and a slide
+        // gain of -1.8e308 an infinite slide, whose clamping then gave NaN.
+        for (row, col, gain) in [(1, 1, 1e300), (1, 0, -f64::MAX), (0, 1, 2.0)] {
+            let mut c = Calibration::default();
+            c.paddles[6].matrix[row][col] = gain;
+            let err = c.validate().unwrap_err();
+            assert!(
+                matches!(err, CalibrationError::OutOfRange { paddle: 6, max, .. } if max == MAX_GAIN_PER_COUNT),
+                "{err}"
+            );
+            assert!(
+                err.to_string().contains(&format!("matrix[{row}][{col}]")),
+                "{err}"
+            );
+        }
+        let mut c = Calibration::default();
+        c.paddles[3].offset[0] = 1e7;
+        assert!(matches!(
+            c.validate(),
+            Err(CalibrationError::OutOfRange {
+                paddle: 3,
+                field: "offset[0]",
+                ..
+            })
+        ));
+        let mut c = Calibration::default();
+        c.paddles[0].offset[1] = -1e4;
+        assert!(matches!(
+            c.validate(),
+            Err(CalibrationError::OutOfRange {
+                paddle: 0,
+                field: "offset[1]",
+                ..
+            })
+        ));
+        // At the limits, the map is accepted.
+        let mut c = Calibration::default();
+        c.paddles[1].matrix[1][1] = MAX_GAIN_PER_COUNT;
+        c.paddles[1].offset = [-MAX_OFFSET_SLIDE_M, MAX_OFFSET_ANGLE_RAD];
+        c.validate().unwrap();
     }
 }

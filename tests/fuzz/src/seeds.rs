@@ -1,0 +1,404 @@
+//! The seed corpus: real inputs made by the project's own encoders and fixtures, plus
+//! edge cases. `foosball-fuzz seed-corpus` writes them to `corpus/<target>/`.
+//!
+//! Names say what a seed is for: `valid-*` seeds must be accepted by their target (a
+//! test checks it), so every target starts from inputs that reach past its parser;
+//! `edge-*` seeds sit on a boundary (a wrong length, an unknown version, a value just
+//! outside its range) and may be accepted or rejected.
+
+use board_link::socket_wire::Message;
+use foosball_protocol::{
+    HapticPulse, InReport, LedState, OutReport, PaddleMotion, PaddleStatus, PADDLES,
+};
+use foosball_sim::motion::recording::{RecordingFile, Sample, RECORDING_VERSION};
+use foosball_sim::motion::RodPose;
+use sensor_board::mouse::command::{ACK, DEVICE_ID_MOUSE, SELF_TEST_PASSED};
+use space_foosball::input::calibration::{Calibration, PaddleCalibration};
+use space_foosball::play::{idle_inputs, Match, MatchConfig};
+use space_foosball::recording::MatchRecording;
+use space_foosball::rules::RulesConfig;
+use space_foosball::table::presets::{PAPER_TOML, STANDARD_TOML};
+use space_foosball::Table;
+use virtual_physics::scene::builtin;
+
+use crate::targets::ps2::{Op, Script};
+
+/// One seed: its file name and bytes.
+pub type Seed = (String, Vec<u8>);
+
+/// The seeds of `target` (empty for an unknown name).
+pub fn seeds(target: &str) -> Vec<Seed> {
+    match target {
+        "in-report" => in_reports(),
+        "out-report" => out_reports(),
+        "ps2" => ps2(),
+        "socket-frames" => socket_frames(),
+        "scene" => scenes(),
+        "table" => tables(),
+        "calibration" => calibrations(),
+        "recording" => recordings(),
+        "motion-script" => motion_scripts(),
+        "motion-recording" => motion_recordings(),
+        _ => Vec::new(),
+    }
+}
+
+fn seed(name: &str, bytes: impl Into<Vec<u8>>) -> Seed {
+    (name.to_string(), bytes.into())
+}
+
+fn moving_report(sequence: u16) -> InReport {
+    let mut report = InReport::all_present(sequence);
+    for (i, paddle) in report.paddles.iter_mut().enumerate() {
+        paddle.axial = 37 * i as i16 - 100;
+        paddle.rotation = -(i as i16) * 250;
+    }
+    report
+}
+
+fn in_reports() -> Vec<Seed> {
+    let extreme = InReport {
+        sequence: u16::MAX,
+        paddles: [PaddleMotion {
+            axial: i16::MIN,
+            rotation: i16::MAX,
+            status: PaddleStatus::from_bits(PaddleStatus::KNOWN_BITS).unwrap_or_default(),
+        }; PADDLES],
+    };
+    let good = moving_report(7).to_bytes();
+    let mut version_2 = good;
+    version_2[0] = 2;
+    let mut unknown_status = good;
+    unknown_status[7] = 0x80;
+    vec![
+        seed("valid-idle", InReport::all_present(0).to_bytes()),
+        seed("valid-moving", good),
+        seed("valid-extreme", extreme.to_bytes()),
+        seed("valid-absent", InReport::default().to_bytes()),
+        seed("edge-short", &good[..good.len() - 1]),
+        seed("edge-version-2", version_2),
+        seed("edge-unknown-status-bit", unknown_status),
+    ]
+}
+
+fn out_reports() -> Vec<Seed> {
+    let mut pulses = OutReport::default();
+    for (i, p) in pulses.haptics.iter_mut().enumerate() {
+        *p = HapticPulse {
+            strength: 255 - 30 * i as u8,
+            duration_ms: 10 * i as u8,
+        };
+    }
+    pulses.led = LedState::FastBlink;
+    let good = pulses.to_bytes();
+    let mut bad_led = good;
+    bad_led[good.len() - 1] = 4;
+    let mut long = good.to_vec();
+    long.push(0);
+    vec![
+        seed("valid-off", OutReport::default().to_bytes()),
+        seed("valid-pulses", good),
+        seed("edge-led-4", bad_led),
+        seed("edge-long", long),
+    ]
+}
+
+/// Reply indices of the PS/2 target's [`Op::Reply`].
+const REPLY_ACK: u8 = 0;
+const REPLY_RESEND: u8 = 1;
+const REPLY_BAT: u8 = 3;
+const REPLY_ID: u8 = 4;
+
+/// The whole initialisation of the mouse on `port`, as a well-behaved mouse answers it:
+/// reset, self-test, id, sample rate, resolution, enable reporting.
+fn handshake(mut s: Script, port: u8) -> Script {
+    assert_eq!((ACK, SELF_TEST_PASSED, DEVICE_ID_MOUSE), (0xFA, 0xAA, 0x00));
+    s = s
+        .op(port, Op::Poll)
+        .op(port, Op::Sent(0))
+        .op(port, Op::Reply(REPLY_ACK))
+        .op(port, Op::Reply(REPLY_BAT))
+        .op(port, Op::Reply(REPLY_ID));
+    // Set sample rate, its value, set resolution, its value, enable reporting.
+    for _ in 0..5 {
+        s = s
+            .op(port, Op::Poll)
+            .op(port, Op::Sent(0))
+            .op(port, Op::Reply(REPLY_ACK));
+    }
+    s
+}
+
+fn ps2() -> Vec<Seed> {
+    let mut all = Script::starting_at(0);
+    for port in 0..8 {
+        all = handshake(all, port);
+    }
+    let mut streaming = all.clone().op(0, Op::Report);
+    for k in 0..20u8 {
+        streaming = streaming
+            .op(
+                k % 8,
+                Op::Packet([0x08 | (k & 0x30), k.wrapping_mul(13), 200 - k]),
+            )
+            .op(0, Op::Wait(1_000))
+            .op(0, Op::Report);
+    }
+    let garbled = handshake(Script::starting_at(5_000), 2)
+        .op(2, Op::Frame(0x0001))
+        .op(2, Op::Frame(0x03FE))
+        .op(2, Op::Byte(0x55))
+        .op(2, Op::Packet([0x18, 0xFF, 0x01]))
+        .op(2, Op::Report);
+    let resends = Script::starting_at(0)
+        .op(1, Op::Poll)
+        .op(1, Op::Sent(0))
+        .op(1, Op::Reply(REPLY_RESEND))
+        .op(1, Op::Poll)
+        .op(1, Op::Sent(0))
+        .op(1, Op::Reply(REPLY_RESEND))
+        .op(1, Op::Poll)
+        .op(1, Op::Sent(1))
+        .op(1, Op::Report);
+    let unplugged = handshake(Script::starting_at(0), 4)
+        .op(4, Op::Report)
+        .op(0, Op::Wait(50_000))
+        .op(4, Op::Poll)
+        .op(4, Op::Sent(0))
+        .op(0, Op::Wait(100_000))
+        .op(4, Op::Report)
+        .op(0, Op::Wait(300_000))
+        .op(4, Op::Report);
+    let late = handshake(Script::starting_at(u64::MAX - 2_000_000), 7)
+        .op(0, Op::Wait(u64::MAX))
+        .op(7, Op::Poll)
+        .op(7, Op::Report);
+    vec![
+        seed(
+            "valid-handshake-all-ports",
+            all.op(0, Op::Report).into_bytes(),
+        ),
+        seed("valid-streaming", streaming.into_bytes()),
+        seed("valid-garbled-frames", garbled.into_bytes()),
+        seed("valid-resends", resends.into_bytes()),
+        seed("valid-unplugged", unplugged.into_bytes()),
+        seed("edge-time-at-the-end", late.into_bytes()),
+        seed(
+            "edge-port-9",
+            handshake(Script::starting_at(0), 9)
+                .op(9, Op::Report)
+                .into_bytes(),
+        ),
+    ]
+}
+
+fn frames(messages: &[Message]) -> Vec<u8> {
+    let mut out = Vec::new();
+    for m in messages {
+        m.encode_into(&mut out).expect("seed messages fit a frame");
+    }
+    out
+}
+
+fn socket_frames() -> Vec<Seed> {
+    let stream = frames(&[
+        Message::hello(),
+        Message::in_report(&InReport::all_present(0)),
+        Message::in_report(&moving_report(1)),
+        Message::in_report(&moving_report(3)),
+        Message::out_report(&OutReport::default()),
+        Message::InReport(vec![1, 2, 3]),
+        Message::InReport(vec![0xAB; 64]),
+        Message::InReport(Vec::new()),
+    ]);
+    let with_splits = |sizes: &[u8]| {
+        let mut out = vec![sizes.len() as u8];
+        out.extend_from_slice(sizes);
+        out.extend_from_slice(&stream);
+        out
+    };
+    let mut truncated = with_splits(&[]);
+    truncated.truncate(truncated.len() - 3);
+    vec![
+        seed("valid-one-read", with_splits(&[])),
+        seed("valid-split-reads", with_splits(&[1, 1, 2, 5, 40, 0, 3])),
+        seed("valid-byte-by-byte", with_splits(&[1; 60])),
+        seed("valid-truncated-frame", truncated),
+        seed("edge-unknown-kind", [0, 0x01, 0x01, 0x01, 0x04, 0x00]),
+        seed("edge-hello-length-2", [0, 0x01, 0x02, 0x01, 0x01]),
+        seed("edge-payload-65", {
+            let mut v = vec![0, 0x02, 65];
+            v.extend([0; 65]);
+            v
+        }),
+    ]
+}
+
+fn scenes() -> Vec<Seed> {
+    let mut out: Vec<Seed> = ["ball-roll", "ball-wall"]
+        .iter()
+        .filter_map(|name| {
+            let scene = builtin::by_name(name).ok()?;
+            Some(seed(&format!("valid-{name}.json"), scene.to_json()))
+        })
+        .collect();
+    // A built-in stack, small: 100 steps of the larger ones take seconds each run.
+    out.push(seed(
+        "valid-tower-4.json",
+        builtin::towers(1, 1, 4).to_json(),
+    ));
+    let mut two = builtin::ball_roll();
+    two.bodies.truncate(2);
+    two.steps = Some(10);
+    out.push(seed("valid-two-bodies.json", two.to_json()));
+    out.push(seed("edge-empty-object.json", "{}"));
+    out.push(seed("edge-no-bodies.json", r#"{"effects":["gravity"]}"#));
+    out
+}
+
+/// The standard table's TOML with `rods` copies of its first rod appended (a large
+/// input for the runner's heap-cap test).
+pub fn table_with_rods(rods: usize) -> Vec<u8> {
+    let first_rod = STANDARD_TOML
+        .split("[[rods]]")
+        .nth(1)
+        .map(|r| format!("[[rods]]{r}"))
+        .unwrap_or_default();
+    let mut text = STANDARD_TOML.to_string();
+    for _ in 0..rods {
+        text.push('\n');
+        text.push_str(&first_rod);
+    }
+    text.into_bytes()
+}
+
+fn tables() -> Vec<Seed> {
+    let mut narrow = Table::standard();
+    narrow.name = "one rod".into();
+    narrow.rods.truncate(1);
+    vec![
+        seed("valid-standard.toml", STANDARD_TOML),
+        seed("valid-paper.toml", PAPER_TOML),
+        seed("valid-standard-resaved.toml", Table::standard().to_toml()),
+        seed("edge-one-rod.toml", narrow.to_toml()),
+        seed(
+            "edge-no-rods.toml",
+            STANDARD_TOML
+                .split("[[rods]]")
+                .next()
+                .unwrap_or(STANDARD_TOML),
+        ),
+    ]
+}
+
+fn calibrations() -> Vec<Seed> {
+    let mut crosstalk = Calibration::default();
+    for (i, p) in crosstalk.paddles.iter_mut().enumerate() {
+        let gain = 1.0 + 0.01 * i as f64;
+        p.matrix[0][0] *= gain;
+        p.matrix[0][1] = 2e-6;
+        p.matrix[1][0] = -3e-4;
+        p.offset = [0.001 * i as f64, -0.02];
+    }
+    let mut singular = Calibration::default();
+    singular.paddles[3] = PaddleCalibration {
+        matrix: [[1e-4, 2e-4], [2e-4, 4e-4]],
+        offset: [0.0, 0.0],
+    };
+    let default = Calibration::default().to_json();
+    let seven = {
+        let mut v: serde_json::Value =
+            serde_json::from_str(&default).expect("the default calibration is JSON");
+        if let Some(p) = v["paddles"].as_array_mut() {
+            p.pop();
+        }
+        v.to_string()
+    };
+    vec![
+        seed("valid-default.json", default.clone()),
+        seed("valid-crosstalk.json", crosstalk.to_json()),
+        seed("edge-singular.json", singular.to_json()),
+        seed("edge-seven-paddles.json", seven),
+        seed(
+            "edge-version-2.json",
+            default.replace("\"version\": 1", "\"version\": 2"),
+        ),
+    ]
+}
+
+fn recordings() -> Vec<Seed> {
+    let table = Table::paper();
+    let mut poses = Vec::new();
+    if let Ok(mut game) = Match::new(MatchConfig::computer_vs_computer(table.clone(), 3)) {
+        let idle = idle_inputs(&table);
+        for _ in 0..60 {
+            game.step(&idle);
+        }
+        poses.push(seed(
+            "valid-computer-match.json",
+            game.recording().to_json(),
+        ));
+    }
+    let mut reports = MatchRecording::of_reports(9, table.clone(), RulesConfig::default());
+    for sequence in 0..40 {
+        reports.push_report(&moving_report(sequence));
+    }
+    let empty = MatchRecording::of_poses(1, table, RulesConfig::default());
+    poses.push(seed("valid-reports.json", reports.to_json()));
+    poses.push(seed("valid-empty.json", empty.to_json()));
+    poses
+}
+
+fn motion_scripts() -> Vec<Seed> {
+    vec![
+        seed(
+            "valid-demo.json",
+            include_str!("../../../sim/scripts/demo.json"),
+        ),
+        seed("valid-empty.json", r#"{"rods":[]}"#),
+        seed(
+            "valid-limits.json",
+            r#"{"rods":[{"rod":7,"start":{"axial_m":10.0,"angle_rad":-1e7},"segments":[{"move_to":{"duration_s":1e-9,"axial_m":-10.0,"angle_rad":1e7}},{"velocity":{"duration_s":0.01,"axial_m_per_s":100.0,"angle_rad_per_s":-10000.0}}]}]}"#,
+        ),
+        seed(
+            "edge-rod-8.json",
+            r#"{"rods":[{"rod":8,"segments":[{"hold":{"duration_s":1.0}}]}]}"#,
+        ),
+        seed(
+            "edge-zero-duration.json",
+            r#"{"rods":[{"rod":0,"segments":[{"hold":{"duration_s":0.0}}]}]}"#,
+        ),
+    ]
+}
+
+fn motion_recordings() -> Vec<Seed> {
+    let samples: Vec<Sample> = (0..20u64)
+        .map(|k| {
+            let mut poses = [RodPose::default(); PADDLES];
+            for (rod, pose) in poses.iter_mut().enumerate() {
+                let t = k as f64 * 0.005;
+                *pose = RodPose::new(0.05 * (t * rod as f64).sin(), 3.0 * t);
+            }
+            Sample {
+                t_us: k * 5_000,
+                poses,
+            }
+        })
+        .collect();
+    let file = |samples: Vec<Sample>| {
+        serde_json::to_string(&RecordingFile {
+            version: RECORDING_VERSION,
+            samples,
+        })
+        .expect("a recording serialises")
+    };
+    let one = samples[..1].to_vec();
+    let mut repeated = samples[..3].to_vec();
+    repeated[2].t_us = repeated[1].t_us;
+    vec![
+        seed("valid-sine.json", file(samples)),
+        seed("valid-one-sample.json", file(one)),
+        seed("edge-repeated-time.json", file(repeated)),
+        seed("edge-no-samples.json", file(Vec::new())),
+    ]
+}
