@@ -2,6 +2,7 @@
 //! brute-force pair search.
 
 use nalgebra::Matrix3;
+use std::borrow::Borrow;
 use virtual_physics::algebra::exp_so3;
 use virtual_physics::dynamics::{BodyKind, BodySet, Material};
 use virtual_physics::geometry::narrow_phase::collide;
@@ -13,9 +14,17 @@ fn cube(h: f64) -> Shape {
     }
 }
 
-fn contact(sa: Shape, ra: Matrix3<f64>, pa: V3, sb: Shape, rb: Matrix3<f64>, pb: V3) -> Manifold {
+fn contact(
+    sa: impl Borrow<Shape>,
+    ra: Matrix3<f64>,
+    pa: V3,
+    sb: impl Borrow<Shape>,
+    rb: Matrix3<f64>,
+    pb: V3,
+) -> Manifold {
     let mut m = Manifold::new(0, 1);
-    let hit = collide(&sa, &ra, &pa, &sb, &rb, &pb, 0.0, &mut m).expect("supported pair");
+    let (sa, sb) = (sa.borrow(), sb.borrow());
+    let hit = collide(sa, &ra, &pa, sb, &rb, &pb, 0.0, &mut m).expect("supported pair");
     assert_eq!(hit, m.len > 0);
     m
 }
@@ -101,9 +110,9 @@ fn spheres_capsules_cylinders_and_planes() {
     let plane = Shape::HalfSpace { normal: V3::z() };
     // Sphere on a box face and a box edge.
     let s = Shape::Sphere { radius: 0.1 };
-    let m = contact(cube(0.5), i, V3::zeros(), s, i, V3::new(0.2, 0.0, 0.59));
+    let m = contact(cube(0.5), i, V3::zeros(), &s, i, V3::new(0.2, 0.0, 0.59));
     assert!((m.normal - V3::z()).norm() < 1e-12 && (m.points[0].separation + 0.01).abs() < 1e-12);
-    let m = contact(cube(0.5), i, V3::zeros(), s, i, V3::new(0.55, 0.0, 0.55));
+    let m = contact(cube(0.5), i, V3::zeros(), &s, i, V3::new(0.55, 0.0, 0.55));
     let n = V3::new(1.0, 0.0, 1.0).normalize();
     assert!((m.normal - n).norm() < 1e-12);
     // Capsule lying on a plane: both ends.
@@ -112,27 +121,41 @@ fn spheres_capsules_cylinders_and_planes() {
         half_height: 0.3,
     };
     let lying = exp_so3(&V3::new(0.0, std::f64::consts::FRAC_PI_2, 0.0));
-    let m = contact(plane, i, V3::zeros(), cap, lying, V3::new(0.0, 0.0, 0.049));
+    let m = contact(
+        &plane,
+        i,
+        V3::zeros(),
+        &cap,
+        lying,
+        V3::new(0.0, 0.0, 0.049),
+    );
     assert_eq!(m.len, 2);
     // Cylinder standing on a plane: a rim, reduced to 4 points; lying: a line of points.
     let cyl = Shape::Cylinder {
         radius: 0.1,
         half_height: 0.2,
     };
-    let m = contact(plane, i, V3::zeros(), cyl, i, V3::new(0.0, 0.0, 0.199));
+    let m = contact(&plane, i, V3::zeros(), &cyl, i, V3::new(0.0, 0.0, 0.199));
     assert_eq!(m.len, 4);
-    let m = contact(plane, i, V3::zeros(), cyl, lying, V3::new(0.0, 0.0, 0.099));
+    let m = contact(
+        &plane,
+        i,
+        V3::zeros(),
+        &cyl,
+        lying,
+        V3::new(0.0, 0.0, 0.099),
+    );
     assert!(m.len >= 2);
     // Sphere against a cylinder side.
-    let m = contact(cyl, i, V3::zeros(), s, i, V3::new(0.19, 0.0, 0.0));
+    let m = contact(&cyl, i, V3::zeros(), &s, i, V3::new(0.19, 0.0, 0.0));
     assert!((m.normal - V3::x()).norm() < 1e-12 && (m.points[0].separation + 0.01).abs() < 1e-12);
     // Capsule against capsule, crossed.
     let along_y = exp_so3(&V3::new(std::f64::consts::FRAC_PI_2, 0.0, 0.0));
     let m = contact(
-        cap,
+        &cap,
         lying,
         V3::zeros(),
-        cap,
+        &cap,
         along_y,
         V3::new(0.0, 0.0, 0.09),
     );
@@ -183,8 +206,8 @@ fn grid_broad_phase_equals_brute_force() {
             V3::zeros(),
         );
     }
-    let mut bp = BroadPhase::new(&bodies);
-    bp.update(&bodies, &[]);
+    let mut bp = BroadPhase::new(&bodies.shape);
+    bp.update(&bodies.collision_view(), &[]);
     let mut brute = Vec::new();
     for a in 0..bodies.len() {
         for b in a + 1..bodies.len() {

@@ -16,7 +16,7 @@
 
 use super::build::BodyRole;
 use crate::rules::{Contact, ContactWith};
-use virtual_physics::geometry::{Shape, V3};
+use virtual_physics::geometry::V3;
 use virtual_physics::pipeline::World;
 
 /// The ball's state at the start of a step (body frame origin = centre), table frame.
@@ -124,36 +124,11 @@ pub fn merge(into: &mut Vec<Contact>, new: Vec<Contact>) {
     into.sort_by_key(|c| rank(&c.with));
 }
 
-/// Signed distance (m) from `point` to the shape of body `i` (negative inside).
+/// Signed distance (m) from `point` (world) to the shape of body `i` (negative inside).
 pub fn signed_distance(world: &World, i: usize, point: &V3) -> Option<f64> {
     let b = &world.bodies;
     let local = b.rot[i].tr_mul(&(point - b.pos[i]));
-    match b.shape[i] {
-        Shape::HalfSpace { normal } => Some(normal.dot(&local)),
-        Shape::Cuboid { half } => {
-            let q = local.abs() - half;
-            let outside = q.sup(&V3::zeros()).norm();
-            let inside = q.max().min(0.0);
-            Some(outside + inside)
-        }
-        Shape::Cylinder {
-            radius,
-            half_height,
-        } => {
-            let radial = (local.x * local.x + local.y * local.y).sqrt() - radius;
-            let axial = local.z.abs() - half_height;
-            let outside = (radial.max(0.0).powi(2) + axial.max(0.0).powi(2)).sqrt();
-            Some(outside + radial.max(axial).min(0.0))
-        }
-        Shape::Capsule {
-            radius,
-            half_height,
-        } => {
-            let z = local.z.clamp(-half_height, half_height);
-            Some((local - V3::new(0.0, 0.0, z)).norm() - radius)
-        }
-        Shape::Sphere { radius } => Some(local.norm() - radius),
-    }
+    Some(b.shape[i].signed_distance(&local))
 }
 
 /// The smallest gap (m) between a ball of body `ball` centred at `centre` and any other

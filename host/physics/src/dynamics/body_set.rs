@@ -8,7 +8,7 @@
 //! angular velocity, both in world coordinates; the body twist of part 1 is
 //! `V = (rotᵀ omega, rotᵀ vel)`.
 
-use crate::geometry::{Aabb, Shape, M3, V3};
+use crate::geometry::{Aabb, CollisionBodies, Material, Shape, M3, V3};
 
 /// How a body moves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,27 +21,6 @@ pub enum BodyKind {
     Fixed,
 }
 
-/// Surface properties of a body.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Material {
-    /// Coulomb friction coefficient (–).
-    pub friction: f64,
-    /// Restitution coefficient, 0 … 1 (–).
-    pub restitution: f64,
-    /// Rolling resistance coefficient: resisting torque = coefficient · radius · normal force (–).
-    pub rolling_resistance: f64,
-}
-
-impl Default for Material {
-    fn default() -> Self {
-        Self {
-            friction: 0.5,
-            restitution: 0.0,
-            rolling_resistance: 0.0,
-        }
-    }
-}
-
 /// Every body of a world, structure of arrays (index = body id).
 #[derive(Clone, Debug, Default)]
 pub struct BodySet {
@@ -49,9 +28,9 @@ pub struct BodySet {
     pub name: Vec<String>,
     /// Kind.
     pub kind: Vec<BodyKind>,
-    /// Shape, body frame.
+    /// Shape, body frame (a compound carries its parts' poses and materials).
     pub shape: Vec<Shape>,
-    /// Material.
+    /// Material of a body with a primitive shape (a compound's parts have their own).
     pub material: Vec<Material>,
     /// Centre of mass, world (m).
     pub pos: Vec<V3>,
@@ -117,6 +96,7 @@ impl BodySet {
             V3::zeros()
         };
         let inv = |x: f64| if x > 0.0 { 1.0 / x } else { 0.0 };
+        self.aabb.push(shape.aabb(&rot, &pos));
         self.name.push(name);
         self.kind.push(kind);
         self.shape.push(shape);
@@ -132,12 +112,45 @@ impl BodySet {
         self.inv_inertia_world.push(M3::zeros());
         self.awake.push(dynamic);
         self.sleep_time.push(0.0);
-        self.aabb.push(shape.aabb(&rot, &pos));
         self.dp.push(V3::zeros());
         self.dtheta.push(V3::zeros());
         self.force.push(V3::zeros());
         self.torque.push(V3::zeros());
         self.len() - 1
+    }
+
+    /// What collision detection reads of the bodies.
+    pub fn collision_view(&self) -> CollisionBodies<'_> {
+        CollisionBodies {
+            shape: &self.shape,
+            rot: &self.rot,
+            pos: &self.pos,
+            aabb: &self.aabb,
+            awake: &self.awake,
+            inv_mass: &self.inv_mass,
+        }
+    }
+
+    /// The primitive shape of part `part` of body `i` (the body's shape unless a compound).
+    pub fn part_shape(&self, i: usize, part: u16) -> &Shape {
+        match &self.shape[i] {
+            Shape::Compound(c) => c
+                .parts()
+                .get(part as usize)
+                .map_or(&self.shape[i], |p| &p.shape),
+            s => s,
+        }
+    }
+
+    /// The material of part `part` of body `i` (the body's material unless a compound).
+    pub fn part_material(&self, i: usize, part: u16) -> Material {
+        match &self.shape[i] {
+            Shape::Compound(c) => c
+                .parts()
+                .get(part as usize)
+                .map_or(self.material[i], |p| p.material),
+            _ => self.material[i],
+        }
     }
 
     /// Mass (kg), `∞` for kinematic and fixed bodies.

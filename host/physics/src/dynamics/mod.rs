@@ -23,7 +23,8 @@ pub mod solver;
 mod workspace;
 
 pub use aba::aba;
-pub use body_set::{BodyKind, BodySet, Material};
+pub use crate::geometry::Material;
+pub use body_set::{BodyKind, BodySet};
 pub use crba::mass_matrix;
 pub use error::DynamicsError;
 pub use linalg::{cholesky_solve, CholeskyError};

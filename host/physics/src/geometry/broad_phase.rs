@@ -5,8 +5,7 @@
 //! Each candidate pair is reported once: only in the cell holding the lower corner of the two
 //! boxes' intersection. Output: sorted pair keys `a << 32 | b`, `a < b`.
 
-use super::{Aabb, Shape};
-use crate::dynamics::{BodyKind, BodySet};
+use super::{Aabb, CollisionBodies, Shape};
 
 /// Most cells one body may cover before it is treated as oversized.
 const MAX_CELLS_PER_BODY: i64 = 64;
@@ -22,9 +21,42 @@ pub struct BroadPhase {
     pub pairs: Vec<u64>,
 }
 
+/// The cell of coordinate `x`; saturating (`as` clamps to the `i64` range, NaN gives 0), so
+/// a distant box never overflows. Cells beyond the key's 21 bits alias nearer ones: that
+/// only adds candidates, which the box test then rejects.
 #[inline]
 fn cell_of(x: f64, inv: f64) -> i64 {
     (x * inv).floor() as i64
+}
+
+/// The lowest and highest cells a box covers, or `None` when it covers more than
+/// [`MAX_CELLS_PER_BODY`] cells or is not finite: then it goes on the oversized list. The
+/// count is taken in floating point, where it cannot wrap (in integers a 1.6e19 m box wraps
+/// it into `1..=64` and the loop over its cells never ends).
+#[inline]
+fn cell_range(b: &Aabb, inv: f64) -> Option<([i64; 3], [i64; 3])> {
+    let mut cells = 1.0;
+    for k in 0..3 {
+        cells *= (b.max[k] * inv).floor() - (b.min[k] * inv).floor() + 1.0;
+    }
+    // NaN fails both comparisons.
+    if !(cells >= 1.0 && cells <= MAX_CELLS_PER_BODY as f64) {
+        return None;
+    }
+    let lo = [0, 1, 2].map(|k| cell_of(b.min[k], inv));
+    let hi = [0, 1, 2].map(|k| cell_of(b.max[k], inv));
+    Some((lo, hi))
+}
+
+/// The grid's cell edge (m) for boxes of median diameter `median` (m): twice that, at least
+/// 5 cm, at most 1 km (larger boxes are oversized anyway), 1 m when it is not finite.
+fn cell_edge(median: f64) -> f64 {
+    let cell = 2.0 * median;
+    if cell.is_finite() {
+        cell.clamp(0.05, 1e3)
+    } else {
+        1.0
+    }
 }
 
 #[inline]
@@ -34,10 +66,9 @@ fn key(ix: i64, iy: i64, iz: i64) -> u64 {
 }
 
 impl BroadPhase {
-    /// A grid sized for the bodies: cells twice the median body diameter.
-    pub fn new(bodies: &BodySet) -> Self {
-        let mut d: Vec<f64> = bodies
-            .shape
+    /// A grid sized for the shapes: cells twice the median body diameter.
+    pub fn new(shapes: &[Shape]) -> Self {
+        let mut d: Vec<f64> = shapes
             .iter()
             .filter(|s| !s.is_half_space())
             .map(|s| 2.0 * s.bounding_radius())
@@ -45,42 +76,30 @@ impl BroadPhase {
         d.sort_by(f64::total_cmp);
         let median = d.get(d.len() / 2).copied().unwrap_or(1.0);
         Self {
-            cell: (2.0 * median).max(0.05),
+            cell: cell_edge(median),
             entries: Vec::new(),
             oversized: Vec::new(),
             pairs: Vec::new(),
         }
     }
 
-    /// Recomputes `pairs` from the bodies' `aabb`. Pairs of two non-dynamic bodies, of two
-    /// bodies that are both not awake, and pairs in `excluded` (sorted keys) are skipped.
-    /// Returns the number of box–box overlap tests made.
-    pub fn update(&mut self, bodies: &BodySet, excluded: &[u64]) -> usize {
+    /// Recomputes `pairs` from the bodies' `aabb`. Pairs of two bodies that do not respond to
+    /// contacts (`inv_mass` 0), of two bodies that are both not awake, and pairs in `excluded`
+    /// (sorted keys) are skipped. Returns the number of box–box overlap tests made.
+    pub fn update(&mut self, bodies: &CollisionBodies<'_>, excluded: &[u64]) -> usize {
         self.entries.clear();
         self.oversized.clear();
         self.pairs.clear();
         let inv = 1.0 / self.cell;
         for i in 0..bodies.len() {
-            if matches!(bodies.shape[i], Shape::HalfSpace { .. }) {
+            if bodies.shape[i].is_half_space() {
                 self.oversized.push(i as u32);
                 continue;
             }
-            let b = &bodies.aabb[i];
-            let (x0, y0, z0) = (
-                cell_of(b.min.x, inv),
-                cell_of(b.min.y, inv),
-                cell_of(b.min.z, inv),
-            );
-            let (x1, y1, z1) = (
-                cell_of(b.max.x, inv),
-                cell_of(b.max.y, inv),
-                cell_of(b.max.z, inv),
-            );
-            let n = (x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1);
-            if !(1..=MAX_CELLS_PER_BODY).contains(&n) {
+            let Some(([x0, y0, z0], [x1, y1, z1])) = cell_range(&bodies.aabb[i], inv) else {
                 self.oversized.push(i as u32);
                 continue;
-            }
+            };
             for x in x0..=x1 {
                 for y in y0..=y1 {
                     for z in z0..=z1 {
@@ -150,8 +169,8 @@ impl BroadPhase {
     }
 
     #[inline]
-    fn wanted(bodies: &BodySet, a: usize, b: usize) -> bool {
-        (bodies.kind[a] == BodyKind::Dynamic || bodies.kind[b] == BodyKind::Dynamic)
+    fn wanted(bodies: &CollisionBodies<'_>, a: usize, b: usize) -> bool {
+        (bodies.inv_mass[a] > 0.0 || bodies.inv_mass[b] > 0.0)
             && (bodies.awake[a] || bodies.awake[b])
     }
 
@@ -166,7 +185,7 @@ impl BroadPhase {
 }
 
 /// Whether the box reaches into the half-space of body `h`.
-fn half_space_overlaps(bodies: &BodySet, h: usize, b: &Aabb) -> bool {
+fn half_space_overlaps(bodies: &CollisionBodies<'_>, h: usize, b: &Aabb) -> bool {
     let Shape::HalfSpace { normal } = bodies.shape[h] else {
         return false;
     };
@@ -175,4 +194,63 @@ fn half_space_overlaps(bodies: &BodySet, h: usize, b: &Aabb) -> bool {
     let c = (b.min + b.max) * 0.5;
     let e = (b.max - b.min) * 0.5;
     n.dot(&c) - n.abs().dot(&e) <= o
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::V3;
+
+    fn aabb(min: [f64; 3], max: [f64; 3]) -> Aabb {
+        Aabb {
+            min: V3::from(min),
+            max: V3::from(max),
+        }
+    }
+
+    #[test]
+    fn a_small_box_covers_its_cells() {
+        // Cells of 1 m: [-0.5, 0.5] covers cells -1 and 0 on each axis.
+        let r = cell_range(&aabb([-0.5; 3], [0.5; 3]), 1.0);
+        assert_eq!(r, Some(([-1; 3], [0; 3])));
+        let r = cell_range(&aabb([0.1, 0.1, 0.1], [0.2, 0.2, 0.2]), 1.0);
+        assert_eq!(r, Some(([0; 3], [0; 3])));
+    }
+
+    #[test]
+    fn more_than_the_cell_limit_is_oversized() {
+        // 4 × 4 × 4 = 64 cells is the limit; 5 × 4 × 4 is over it.
+        assert!(cell_range(&aabb([0.0; 3], [3.5; 3]), 1.0).is_some());
+        assert!(cell_range(&aabb([0.0; 3], [4.5, 3.5, 3.5]), 1.0).is_none());
+    }
+
+    #[test]
+    fn huge_boxes_are_oversized_without_overflow() {
+        // The half extent that once wrapped the integer count into 1..=64 (with y and z
+        // spans of 2 cells, 2 × 8e18 overflows i64).
+        let h = 1.6e19;
+        assert!(cell_range(&aabb([-h, -0.5, -0.5], [h, 0.5, 0.5]), 0.25).is_none());
+        for h in [1e30, 1e300, f64::MAX] {
+            assert!(cell_range(&aabb([-h; 3], [h; 3]), 0.25).is_none(), "{h}");
+        }
+        assert!(cell_range(&aabb([f64::NEG_INFINITY; 3], [f64::INFINITY; 3]), 1.0).is_none());
+        assert!(cell_range(&aabb([f64::NAN; 3], [f64::NAN; 3]), 1.0).is_none());
+    }
+
+    #[test]
+    fn a_small_box_far_away_covers_one_saturated_cell() {
+        // Beyond i64 cells the index saturates: one cell, no overflow, no endless loop.
+        let x = 1e25;
+        let r = cell_range(&aabb([x, 0.0, 0.0], [x * (1.0 + 1e-16), 0.1, 0.1]), 1.0);
+        assert_eq!(r, Some(([i64::MAX, 0, 0], [i64::MAX, 0, 0])));
+    }
+
+    #[test]
+    fn the_cell_edge_is_finite_and_bounded() {
+        assert_eq!(cell_edge(0.5), 1.0);
+        assert_eq!(cell_edge(1e-9), 0.05);
+        assert_eq!(cell_edge(1.6e19), 1e3);
+        assert_eq!(cell_edge(f64::NAN), 1.0);
+        assert_eq!(cell_edge(f64::INFINITY), 1.0);
+    }
 }

@@ -22,13 +22,18 @@ pub struct ContactPoint {
     pub max_normal_impulse: f64,
 }
 
-/// The contact between two bodies: a shared normal and up to four points.
+/// The contact between a shape of one body and a shape of another: a shared normal and up to
+/// four points. A pair of compound bodies has one manifold per pair of touching parts.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Manifold {
     /// Body A (index into the body set); the normal points from A to B.
     pub a: u32,
     /// Body B.
     pub b: u32,
+    /// Part of A's shape that touches (0 unless A is a compound).
+    pub part_a: u16,
+    /// Part of B's shape that touches (0 unless B is a compound).
+    pub part_b: u16,
     /// Unit normal, world frame, from A to B.
     pub normal: V3,
     /// Points (first `len` valid).
@@ -40,11 +45,18 @@ pub struct Manifold {
 }
 
 impl Manifold {
-    /// An empty manifold between `a` and `b`.
+    /// An empty manifold between `a` and `b` (their first parts).
     pub fn new(a: u32, b: u32) -> Self {
+        Self::between_parts(a, 0, b, 0)
+    }
+
+    /// An empty manifold between part `part_a` of body `a` and part `part_b` of body `b`.
+    pub fn between_parts(a: u32, part_a: u16, b: u32, part_b: u16) -> Self {
         Self {
             a,
             b,
+            part_a,
+            part_b,
             normal: V3::z(),
             points: [ContactPoint::default(); MAX_MANIFOLD_POINTS],
             len: 0,
@@ -56,6 +68,12 @@ impl Manifold {
     #[inline]
     pub fn key(&self) -> u64 {
         ((self.a as u64) << 32) | self.b as u64
+    }
+
+    /// The sort key of the manifold among those of its body pair: `part_a << 16 | part_b`.
+    #[inline]
+    pub fn part_key(&self) -> u32 {
+        ((self.part_a as u32) << 16) | self.part_b as u32
     }
 
     /// The valid points.

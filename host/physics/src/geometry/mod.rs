@@ -1,7 +1,9 @@
 //! Collision detection: shapes, broad phase, narrow phase (contact manifolds), continuous
 //! collision.
 //!
-//! * [`shape`] — the five shapes, their bounding boxes and mass properties.
+//! * [`shape`] — the five primitive shapes and compounds, their bounding boxes and mass
+//!   properties; [`Compound`] — several posed primitives with their materials as one shape.
+//! * [`Material`] — surface properties (friction, restitution, rolling resistance).
 //! * [`broad_phase`] — a uniform-grid broad phase (half-spaces tested against every body).
 //! * [`narrow_phase`] — pair dispatch and persistent manifolds (warm-start data matched by
 //!   feature position).
@@ -13,13 +15,19 @@
 
 pub mod box_box;
 pub mod broad_phase;
+mod collision_bodies;
+mod compound;
 pub mod contact;
+mod material;
 pub mod narrow_phase;
 pub mod primitives;
 pub mod shape;
 
 pub use broad_phase::BroadPhase;
+pub use collision_bodies::CollisionBodies;
+pub use compound::{Compound, CompoundError, CompoundMass, Part, PartDesc};
 pub use contact::{ContactPoint, Manifold, MAX_MANIFOLD_POINTS};
+pub use material::Material;
 pub use narrow_phase::NarrowPhase;
 pub use shape::{Aabb, Shape};
 

@@ -5,11 +5,14 @@
 //! accumulated impulses of the old point whose anchor (in body A's frame) is within
 //! [`MATCH_DISTANCE`], which warm-starts the solver. Pairs of two bodies that are both asleep
 //! keep their manifold unchanged.
+//!
+//! A compound body is tested part by part: each part of one body against each part of the
+//! other whose boxes overlap, one manifold per touching pair of parts, ordered by
+//! [`Manifold::part_key`] within the body pair.
 
 use super::box_box::{box_box, BoxPose};
 use super::primitives as p;
-use super::{Manifold, Shape, M3, V3};
-use crate::dynamics::BodySet;
+use super::{CollisionBodies, Manifold, Shape, M3, V3};
 
 /// Anchors closer than this (m, body A frame) are the same contact point across steps.
 pub const MATCH_DISTANCE: f64 = 0.05;
@@ -23,7 +26,7 @@ pub struct NarrowCounts {
     pub manifolds: usize,
     /// Contact points in all manifolds.
     pub contacts: usize,
-    /// Pairs of shapes with no contact routine (cylinder against box, capsule or cylinder).
+    /// Pairs of shapes with no contact routine (two half-spaces).
     pub unsupported: usize,
 }
 
@@ -42,11 +45,13 @@ fn rank(s: &Shape) -> u8 {
         Shape::Capsule { .. } => 2,
         Shape::Cylinder { .. } => 3,
         Shape::Sphere { .. } => 4,
+        Shape::Compound(_) => 5,
     }
 }
 
-/// Contact between two posed shapes with `rank(sa) ≤ rank(sb)`; the normal from a to b.
-/// `None` when the pair has no routine.
+/// Contact between two posed primitive shapes with `rank(sa) ≤ rank(sb)` (half-space, box,
+/// capsule, cylinder, sphere); the normal from a to b. `None` when the pair has no routine
+/// (two half-spaces, or a compound: the narrow phase splits those into their parts).
 #[allow(clippy::too_many_arguments)]
 pub fn collide(
     sa: &Shape,
@@ -60,12 +65,13 @@ pub fn collide(
 ) -> Option<bool> {
     use Shape::*;
     out.len = 0;
-    let hit = match (*sa, *sb) {
-        (HalfSpace { normal }, b) => {
+    let hit = match (sa, sb) {
+        (&HalfSpace { normal }, b) => {
             let n = ra * normal;
             let o = n.dot(pa);
-            match b {
+            match *b {
                 HalfSpace { .. } => false,
+                Compound(_) => return None,
                 Cuboid { half } => p::plane_box(&n, o, rb, pb, &half, margin, out),
                 Sphere { radius } => p::plane_sphere(&n, o, pb, radius, margin, out),
                 Capsule {
@@ -78,7 +84,7 @@ pub fn collide(
                 } => p::plane_cylinder(&n, o, rb, pb, radius, half_height, margin, out),
             }
         }
-        (Cuboid { half: ha }, Cuboid { half: hb }) => box_box(
+        (&Cuboid { half: ha }, &Cuboid { half: hb }) => box_box(
             BoxPose {
                 r: ra,
                 p: pa,
@@ -92,46 +98,46 @@ pub fn collide(
             margin,
             out,
         ),
-        (Cuboid { half }, Sphere { radius }) => {
+        (&Cuboid { half }, &Sphere { radius }) => {
             p::box_sphere(ra, pa, &half, pb, radius, margin, out)
         }
         (
-            Cuboid { half },
-            Capsule {
+            &Cuboid { half },
+            &Capsule {
                 radius,
                 half_height,
             },
         ) => p::box_capsule(ra, pa, &half, rb, pb, radius, half_height, margin, out),
         (
-            Capsule {
+            &Capsule {
                 radius: r1,
                 half_height: h1,
             },
-            Capsule {
+            &Capsule {
                 radius: r2,
                 half_height: h2,
             },
         ) => p::capsule_capsule(ra, pa, r1, h1, rb, pb, r2, h2, margin, out),
         (
-            Capsule {
+            &Capsule {
                 radius,
                 half_height,
             },
-            Sphere { radius: rs },
+            &Sphere { radius: rs },
         ) => p::capsule_sphere(ra, pa, radius, half_height, pb, rs, margin, out),
         (
-            Cylinder {
+            &Cylinder {
                 radius,
                 half_height,
             },
-            Sphere { radius: rs },
+            &Sphere { radius: rs },
         ) => p::cylinder_sphere(ra, pa, radius, half_height, pb, rs, margin, out),
-        (Sphere { radius: r1 }, Sphere { radius: r2 }) => {
+        (&Sphere { radius: r1 }, &Sphere { radius: r2 }) => {
             p::sphere_sphere(pa, r1, pb, r2, margin, out)
         }
         (
-            Cuboid { half },
-            Cylinder {
+            &Cuboid { half },
+            &Cylinder {
                 radius,
                 half_height,
             },
@@ -142,11 +148,11 @@ pub fn collide(
             out,
         ),
         (
-            Capsule {
+            &Capsule {
                 radius: r1,
                 half_height: h1,
             },
-            Cylinder {
+            &Cylinder {
                 radius: r2,
                 half_height: h2,
             },
@@ -157,11 +163,11 @@ pub fn collide(
             out,
         ),
         (
-            Cylinder {
+            &Cylinder {
                 radius: r1,
                 half_height: h1,
             },
-            Cylinder {
+            &Cylinder {
                 radius: r2,
                 half_height: h2,
             },
@@ -176,12 +182,44 @@ pub fn collide(
     Some(hit)
 }
 
+/// One primitive of a body, posed in the world.
+struct PosedPart<'a> {
+    index: u16,
+    shape: &'a Shape,
+    rot: M3,
+    pos: V3,
+}
+
+/// Calls `f` with each primitive of body `i`: the shape itself, or each part of a compound.
+#[inline]
+fn for_each_part(bodies: &CollisionBodies<'_>, i: usize, mut f: impl FnMut(PosedPart<'_>)) {
+    let (r, p) = (&bodies.rot[i], &bodies.pos[i]);
+    match &bodies.shape[i] {
+        Shape::Compound(c) => {
+            for (k, part) in c.parts().iter().enumerate() {
+                f(PosedPart {
+                    index: k as u16,
+                    shape: &part.shape,
+                    rot: r * part.rot,
+                    pos: p + r * part.pos,
+                });
+            }
+        }
+        s => f(PosedPart {
+            index: 0,
+            shape: s,
+            rot: *r,
+            pos: *p,
+        }),
+    }
+}
+
 impl NarrowPhase {
     /// Recomputes the manifolds of `pairs` (sorted keys). `margin(a, b)` is the speculative
     /// distance (m) of a pair: contacts up to that separation are kept.
     pub fn update(
         &mut self,
-        bodies: &BodySet,
+        bodies: &CollisionBodies<'_>,
         pairs: &[u64],
         margin: impl Fn(usize, usize) -> f64,
     ) -> NarrowCounts {
@@ -193,65 +231,113 @@ impl NarrowPhase {
             while oi < self.old.len() && self.old[oi].key() < k {
                 oi += 1;
             }
-            let old = (oi < self.old.len() && self.old[oi].key() == k).then(|| &self.old[oi]);
+            let first_old = oi;
+            while oi < self.old.len() && self.old[oi].key() == k {
+                oi += 1;
+            }
+            let old = &self.old[first_old..oi];
             let (a, b) = ((k >> 32) as usize, (k & 0xffff_ffff) as usize);
             if !bodies.awake[a] && !bodies.awake[b] {
-                if let Some(o) = old {
+                for o in old {
                     self.manifolds.push(*o);
                     counts.manifolds += 1;
                     counts.contacts += o.len;
                 }
                 continue;
             }
-            counts.pairs_tested += 1;
-            let mut m = Manifold::new(a as u32, b as u32);
-            let (sa, sb) = (&bodies.shape[a], &bodies.shape[b]);
-            let swap = rank(sa) > rank(sb);
-            let (i, j) = if swap { (b, a) } else { (a, b) };
-            let hit = collide(
-                &bodies.shape[i],
-                &bodies.rot[i],
-                &bodies.pos[i],
-                &bodies.shape[j],
-                &bodies.rot[j],
-                &bodies.pos[j],
-                margin(a, b),
-                &mut m,
-            );
-            let Some(hit) = hit else {
-                counts.unsupported += 1;
-                continue;
-            };
-            if !hit || m.len == 0 {
+            let margin = margin(a, b);
+            let compound = matches!(bodies.shape[a], Shape::Compound(_))
+                || matches!(bodies.shape[b], Shape::Compound(_));
+            if !compound {
+                let pa = PosedPart {
+                    index: 0,
+                    shape: &bodies.shape[a],
+                    rot: bodies.rot[a],
+                    pos: bodies.pos[a],
+                };
+                let pb = PosedPart {
+                    index: 0,
+                    shape: &bodies.shape[b],
+                    rot: bodies.rot[b],
+                    pos: bodies.pos[b],
+                };
+                if let Some(m) = Self::contact(bodies, a, &pa, b, &pb, margin, old, &mut counts) {
+                    self.manifolds.push(m);
+                }
                 continue;
             }
-            if swap {
-                m.normal = -m.normal;
-            }
-            let (ra, pa) = (&bodies.rot[a], &bodies.pos[a]);
-            let normal_kept = old.is_some_and(|o| o.normal.dot(&m.normal) > 0.95);
-            for c in m.points[..m.len].iter_mut() {
-                c.local_a = ra.tr_mul(&(c.point - pa));
-                if let (Some(o), true) = (old, normal_kept) {
-                    let mut best = MATCH_DISTANCE * MATCH_DISTANCE;
-                    for q in o.points() {
-                        let d2 = (q.local_a - c.local_a).norm_squared();
-                        if d2 < best {
-                            best = d2;
-                            c.normal_impulse = q.normal_impulse;
-                            c.tangent_impulse = q.tangent_impulse;
-                        }
+            // Compound pair: every part of A against every part of B whose boxes overlap,
+            // in part-key order (A's part, then B's).
+            let manifolds = &mut self.manifolds;
+            for_each_part(bodies, a, |pa| {
+                let box_a = pa.shape.aabb(&pa.rot, &pa.pos).loosened(margin);
+                for_each_part(bodies, b, |pb| {
+                    if !box_a.overlaps(&pb.shape.aabb(&pb.rot, &pb.pos)) {
+                        return;
+                    }
+                    if let Some(m) = Self::contact(bodies, a, &pa, b, &pb, margin, old, &mut counts)
+                    {
+                        manifolds.push(m);
+                    }
+                });
+            });
+        }
+        counts
+    }
+
+    /// The manifold of part `pa` of body `a` against part `pb` of body `b`, with the warm-start
+    /// impulses of the matching points of last step's manifold of the same parts.
+    #[allow(clippy::too_many_arguments)]
+    fn contact(
+        bodies: &CollisionBodies<'_>,
+        a: usize,
+        pa: &PosedPart<'_>,
+        b: usize,
+        pb: &PosedPart<'_>,
+        margin: f64,
+        old_of_pair: &[Manifold],
+        counts: &mut NarrowCounts,
+    ) -> Option<Manifold> {
+        counts.pairs_tested += 1;
+        let mut m = Manifold::between_parts(a as u32, pa.index, b as u32, pb.index);
+        let swap = rank(pa.shape) > rank(pb.shape);
+        let (i, j) = if swap { (pb, pa) } else { (pa, pb) };
+        let hit = collide(
+            i.shape, &i.rot, &i.pos, j.shape, &j.rot, &j.pos, margin, &mut m,
+        );
+        let Some(hit) = hit else {
+            counts.unsupported += 1;
+            return None;
+        };
+        if !hit || m.len == 0 {
+            return None;
+        }
+        if swap {
+            m.normal = -m.normal;
+        }
+        let old = old_of_pair.iter().find(|o| o.part_key() == m.part_key());
+        let (ra, pos_a) = (&bodies.rot[a], &bodies.pos[a]);
+        let normal_kept = old.is_some_and(|o| o.normal.dot(&m.normal) > 0.95);
+        for c in m.points[..m.len].iter_mut() {
+            c.local_a = ra.tr_mul(&(c.point - pos_a));
+            if let (Some(o), true) = (old, normal_kept) {
+                let mut best = MATCH_DISTANCE * MATCH_DISTANCE;
+                for q in o.points() {
+                    let d2 = (q.local_a - c.local_a).norm_squared();
+                    if d2 < best {
+                        best = d2;
+                        c.normal_impulse = q.normal_impulse;
+                        c.tangent_impulse = q.tangent_impulse;
                     }
                 }
             }
-            if normal_kept {
-                m.rolling_impulse = old.map_or(V3::zeros(), |o| o.rolling_impulse);
-            }
-            counts.manifolds += 1;
-            counts.contacts += m.len;
-            self.manifolds.push(m);
         }
-        counts
+        if normal_kept {
+            m.rolling_impulse = old.map_or(V3::zeros(), |o| o.rolling_impulse);
+        }
+        counts.manifolds += 1;
+        counts.contacts += m.len;
+        Some(m)
     }
 
     /// Forgets every manifold.

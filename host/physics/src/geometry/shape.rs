@@ -3,12 +3,14 @@
 //! Shapes are described in their body frame, centred on the body origin (which is also the
 //! centre of mass): a box by half extents, a sphere by radius, a capsule and a cylinder by
 //! radius and half height along the body `z` axis, a half-space by its outward normal (body
-//! frame) through the body origin — the solid is `{x : n·x ≤ 0}`.
+//! frame) through the body origin — the solid is `{x : n·x ≤ 0}`; a compound by its parts,
+//! each posed in the body frame ([`Compound`]).
 
-use super::{M3, V3};
+use super::{Compound, M3, V3};
+use std::sync::Arc;
 
 /// A collision shape in its body frame (m).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
     /// Box with half extents along the body axes.
     Cuboid {
@@ -39,6 +41,9 @@ pub enum Shape {
         /// Unit outward normal, body frame.
         normal: V3,
     },
+    /// Several primitives rigidly joined, each with its pose and material (shared, so that
+    /// cloning a shape stays cheap).
+    Compound(Arc<Compound>),
 }
 
 /// An axis-aligned box in world coordinates (m).
@@ -94,6 +99,7 @@ impl Shape {
                 half_height,
             } => PI * radius * radius * 2.0 * half_height,
             Shape::HalfSpace { .. } => f64::INFINITY,
+            Shape::Compound(ref c) => c.volume(),
         }
     }
 
@@ -138,6 +144,7 @@ impl Shape {
                 V3::new(ixx, ixx, izz)
             }
             Shape::HalfSpace { .. } => V3::zeros(),
+            Shape::Compound(ref c) => c.principal_inertia(m),
         }
     }
 
@@ -164,6 +171,7 @@ impl Shape {
                 a.abs() * half_height + disc * radius
             }
             Shape::HalfSpace { .. } => V3::repeat(f64::INFINITY),
+            Shape::Compound(ref c) => return c.aabb(r, p),
         };
         Aabb {
             min: p - ext,
@@ -185,6 +193,7 @@ impl Shape {
                 half_height,
             } => (radius * radius + half_height * half_height).sqrt(),
             Shape::HalfSpace { .. } => 0.0,
+            Shape::Compound(ref c) => c.bounding_radius(),
         }
     }
 
@@ -198,6 +207,43 @@ impl Shape {
                 half_height,
             } => radius.min(half_height),
             Shape::HalfSpace { .. } => f64::INFINITY,
+            Shape::Compound(ref c) => c.thinness(),
+        }
+    }
+
+    /// Signed distance (m) from a point in the body frame to the surface, negative inside.
+    /// A compound takes the nearest part.
+    pub fn signed_distance(&self, local: &V3) -> f64 {
+        match *self {
+            Shape::HalfSpace { normal } => normal.dot(local),
+            Shape::Cuboid { half } => {
+                let q = local.abs() - half;
+                let outside = q.sup(&V3::zeros()).norm();
+                let inside = q.max().min(0.0);
+                outside + inside
+            }
+            Shape::Cylinder {
+                radius,
+                half_height,
+            } => {
+                let radial = (local.x * local.x + local.y * local.y).sqrt() - radius;
+                let axial = local.z.abs() - half_height;
+                let outside = (radial.max(0.0).powi(2) + axial.max(0.0).powi(2)).sqrt();
+                outside + radial.max(axial).min(0.0)
+            }
+            Shape::Capsule {
+                radius,
+                half_height,
+            } => {
+                let z = local.z.clamp(-half_height, half_height);
+                (local - V3::new(0.0, 0.0, z)).norm() - radius
+            }
+            Shape::Sphere { radius } => local.norm() - radius,
+            Shape::Compound(ref c) => c
+                .parts()
+                .iter()
+                .map(|p| p.shape.signed_distance(&p.rot.tr_mul(&(local - p.pos))))
+                .fold(f64::INFINITY, f64::min),
         }
     }
 }

@@ -10,6 +10,9 @@ use crate::dynamics::solver::{
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
 use crate::geometry::{BroadPhase, NarrowPhase, Shape, V3};
 
+#[path = "step_guard.rs"]
+mod step_guard;
+
 /// Solver and collision settings (SI units).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolverSettings {
@@ -107,6 +110,8 @@ pub struct World {
     excluded_pairs: Vec<u64>,
     batches: ContactBatches,
     batched: bool,
+    /// Checks before and after each step, and the snapshot a failed step is rolled back to.
+    guard: step_guard::StepGuard,
 }
 
 impl World {
@@ -119,7 +124,7 @@ impl World {
         settings: SolverSettings,
     ) -> Self {
         let contacts = effects.has(Effect::Contacts);
-        let broad = contacts.then(|| BroadPhase::new(&bodies));
+        let broad = contacts.then(|| BroadPhase::new(&bodies.shape));
         Self {
             broad,
             narrow: contacts.then(NarrowPhase::default),
@@ -139,6 +144,7 @@ impl World {
             excluded_pairs: Vec::new(),
             batches: ContactBatches::default(),
             batched: false,
+            guard: step_guard::StepGuard::default(),
         }
     }
 
@@ -216,8 +222,20 @@ impl World {
         e + self.articulated.iter().map(|a| a.energy()).sum::<f64>()
     }
 
-    /// One step of `dt`.
+    /// One step of `dt`, guarded (`pipeline/step_guard.rs`): state the step cannot use
+    /// (`dt` ≤ 0 or not finite, non-finite gravity, a dynamic body of mass ≤ 0, NaN or ∞, a
+    /// non-finite size, a huge or non-finite pose or velocity) is an error before anything
+    /// moves; a step that makes a body's or a tree's state non-finite returns
+    /// [`DynamicsError::NonFinite`] (or `NonFiniteTree`) naming it, and the world is put
+    /// back as it was before the step (the contact warm-start cache is cleared).
     pub fn step(&mut self) -> Result<(), DynamicsError> {
+        self.guard_before_step()?;
+        let result = self.step_unguarded();
+        self.guard_after_step(result)
+    }
+
+    /// One step of `dt`, unchecked.
+    fn step_unguarded(&mut self) -> Result<(), DynamicsError> {
         self.counters.reset();
         let eff = self.effects;
         let dt = self.dt;
@@ -255,14 +273,15 @@ impl World {
             if ccd {
                 self.counters.mark(Stage::ContinuousCollision);
             }
-            self.counters.broad_phase_tests = broad.update(b, &self.excluded_pairs);
+            self.counters.broad_phase_tests =
+                broad.update(&b.collision_view(), &self.excluded_pairs);
             self.counters.broad_phase_pairs = broad.pairs.len();
             let bodies = &*b;
             let sweep = |i: usize| {
                 dt * (bodies.vel[i].norm()
                     + bodies.omega[i].norm() * bodies.shape[i].bounding_radius())
             };
-            let nc = narrow.update(bodies, &broad.pairs, |a, b| {
+            let nc = narrow.update(&bodies.collision_view(), &broad.pairs, |a, b| {
                 if ccd {
                     spec + sweep(a) + sweep(b)
                 } else {

@@ -1,11 +1,11 @@
 //! Parsing and building a world from a scene.
 
-use super::format::{BodyKindDesc, SceneFile, ShapeDesc};
+use super::format::{BodyKindDesc, PartShapeDesc, SceneFile, ShapeDesc};
 use super::SceneError;
-use crate::algebra::exp_so3;
+use crate::algebra::{exp_so3, SE3};
 use crate::dynamics::solver::FreeJoint;
 use crate::dynamics::{BodyKind, BodySet, Material};
-use crate::geometry::{Shape, V3};
+use crate::geometry::{Compound, CompoundError, CompoundMass, PartDesc, Shape, V3};
 use crate::pipeline::articulated::ArticulatedSystem;
 use crate::pipeline::{Effect, Effects, SolverSettings, World};
 
@@ -14,9 +14,22 @@ fn v(a: [f64; 3]) -> V3 {
 }
 
 impl ShapeDesc {
-    /// The engine shape.
+    /// The engine shape. A compound's parts get the default material and their stated mass
+    /// (or density × volume, else 1 kg/m³ × volume): the geometry and the mass *ratios* of a
+    /// scene's compound come from [`SceneFile::build`], which resolves named materials.
     pub fn shape(&self) -> Shape {
         match *self {
+            ShapeDesc::Compound { ref parts } => {
+                compound(parts, None, |_| Material::default()).map_or_else(
+                    // Unvalidated input: fall back to the first part alone.
+                    |_| {
+                        parts
+                            .first()
+                            .map_or(Shape::Sphere { radius: 0.0 }, |p| p.shape.shape())
+                    },
+                    |(shape, _)| shape,
+                )
+            }
             ShapeDesc::Box { half_extents } => Shape::Cuboid {
                 half: v(half_extents),
             },
@@ -42,10 +55,37 @@ impl ShapeDesc {
     }
 }
 
+/// Builds a compound from its parts: part masses from `mass`, else `density` (the part's, else
+/// `body_density`), else 1 kg/m³; materials through `material`.
+fn compound(
+    parts: &[PartShapeDesc],
+    body_density: Option<f64>,
+    material: impl Fn(&Option<String>) -> Material,
+) -> Result<(Shape, CompoundMass), CompoundError> {
+    let descs: Vec<PartDesc> = parts
+        .iter()
+        .map(|p| {
+            let shape = p.shape.shape();
+            let mass = p
+                .mass
+                .unwrap_or_else(|| p.density.or(body_density).unwrap_or(1.0) * shape.volume());
+            PartDesc {
+                shape,
+                pose: SE3::new(exp_so3(&v(p.rotation)), v(p.position)),
+                mass,
+                material: material(&p.material),
+            }
+        })
+        .collect();
+    let (c, mass) = Compound::new(&descs)?;
+    Ok((c.into_shape(), mass))
+}
+
 impl SceneFile {
     /// Parses JSON (syntax and type errors: the first, with line and column) and validates
     /// (every problem).
     pub fn from_json(text: &str) -> Result<Self, SceneError> {
+        super::validate::check_counts(text)?;
         let s: SceneFile =
             serde_json::from_str(text).map_err(|e| SceneError::Syntax(e.to_string()))?;
         s.validate()?;
@@ -54,10 +94,7 @@ impl SceneFile {
 
     /// Reads and parses a file.
     pub fn from_path(path: &str) -> Result<Self, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
-            path: path.to_string(),
-            source,
-        })?;
+        let text = super::validate::read_file(path)?;
         Self::from_json(&text)
     }
 
@@ -85,20 +122,42 @@ impl SceneFile {
     pub fn build(&self) -> Result<World, SceneError> {
         self.validate()?;
         let mut bodies = BodySet::default();
-        for b in &self.bodies {
-            let shape = b.shape.shape();
-            let material = b
-                .material
-                .as_ref()
+        let named = |name: &Option<String>| {
+            name.as_ref()
                 .and_then(|m| self.materials.iter().find(|x| &x.name == m))
-                .map_or_else(Material::default, |m| Material {
+                .map(|m| Material {
                     friction: m.friction,
                     restitution: m.restitution,
                     rolling_resistance: m.rolling_resistance,
-                });
-            let mass = b
-                .mass
-                .unwrap_or_else(|| b.density.unwrap_or(0.0) * shape.volume());
+                })
+        };
+        for (i, b) in self.bodies.iter().enumerate() {
+            let material = named(&b.material).unwrap_or_default();
+            let mut rot = exp_so3(&v(b.rotation));
+            let mut pos = v(b.position);
+            let (shape, mass) = match &b.shape {
+                ShapeDesc::Compound { parts } => {
+                    let (shape, mp) = compound(parts, b.density, |m| named(m).unwrap_or(material))
+                        .map_err(|e| {
+                            SceneError::Invalid(vec![super::Problem {
+                                path: format!("bodies[{i}].shape"),
+                                message: e.to_string(),
+                            }])
+                        })?;
+                    // The body moves in its centre-of-mass principal frame: T_wb = T_wr T_rb.
+                    let t = mp.body_in_reference;
+                    pos += rot * t.p;
+                    rot *= t.r;
+                    (shape, b.mass.unwrap_or(mp.mass))
+                }
+                primitive => {
+                    let shape = primitive.shape();
+                    let mass = b
+                        .mass
+                        .unwrap_or_else(|| b.density.unwrap_or(0.0) * shape.volume());
+                    (shape, mass)
+                }
+            };
             let kind = match b.kind {
                 BodyKindDesc::Dynamic => BodyKind::Dynamic,
                 BodyKindDesc::Kinematic => BodyKind::Kinematic,
@@ -110,8 +169,8 @@ impl SceneFile {
                 shape,
                 material,
                 mass,
-                v(b.position),
-                exp_so3(&v(b.rotation)),
+                pos,
+                rot,
                 v(b.velocity),
                 v(b.angular_velocity),
             );

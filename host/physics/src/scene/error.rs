@@ -23,9 +23,30 @@ pub enum SceneError {
     /// The text is not JSON of the scene's shape (first such error, with line and column).
     #[error("scene is not valid JSON for the format: {0}")]
     Syntax(String),
-    /// The scene parsed but has problems; all of them are listed.
-    #[error("{} problem(s) in the scene:\n{}", .0.len(), .0.iter().map(|p| format!("  {p}")).collect::<Vec<_>>().join("\n"))]
+    /// The scene parsed but has problems; all of them are listed, on one line.
+    #[error("{}", invalid_message(.0))]
     Invalid(Vec<Problem>),
+    /// A list of the scene (bodies, shapes, joints, materials, trees, tree bodies) is longer
+    /// than its limit; found while reading, before the list was built.
+    #[error("{path}: at least {at_least} {what}, more than the limit of {limit}")]
+    TooMany {
+        /// The list, e.g. `bodies` or `articulated[2].model.bodies`.
+        path: String,
+        /// What its entries are.
+        what: &'static str,
+        /// How many were counted before reading stopped (the limit + 1).
+        at_least: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// The scene text is larger than the limit (bytes).
+    #[error("scene text of {bytes} bytes or more is larger than the limit of {limit} bytes")]
+    TooLarge {
+        /// Its size, or the bytes read before stopping (bytes).
+        bytes: u64,
+        /// The limit (bytes).
+        limit: u64,
+    },
     /// A file could not be read.
     #[error("cannot read scene file {path}: {source}")]
     Io {
@@ -37,6 +58,22 @@ pub enum SceneError {
     /// No built-in scene of that name.
     #[error("no built-in scene named '{0}' (known: {1})")]
     UnknownBuiltin(String, String),
+}
+
+/// One line: a command line prints it as it is.
+fn invalid_message(problems: &[Problem]) -> String {
+    match problems {
+        [one] => format!("invalid scene: {one}"),
+        _ => format!(
+            "{} problems in the scene: {}",
+            problems.len(),
+            problems
+                .iter()
+                .map(|p| p.to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        ),
+    }
 }
 
 impl SceneError {

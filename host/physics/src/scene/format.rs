@@ -27,12 +27,15 @@ pub struct SceneFile {
     #[serde(default)]
     pub name: String,
     /// Step (s).
+    /// Range 1e-6 … 0.1 s (`scene::limits`; the crate README gives the reasons).
     #[serde(default = "default_dt")]
     pub dt: f64,
     /// Default number of steps for `vphys run`.
+    /// Range 1 … 1e8.
     #[serde(default)]
     pub steps: Option<u64>,
     /// Gravity (m/s², world); used with the `gravity` effect.
+    /// Length at most 1e3 m/s².
     #[serde(default = "default_gravity")]
     pub gravity: [f64; 3],
     /// The declared effects: only these stages run.
@@ -48,15 +51,19 @@ pub struct SceneFile {
     #[serde(default)]
     pub damping: DampingDesc,
     /// Named materials.
+    /// At most 10 000.
     #[serde(default)]
     pub materials: Vec<MaterialDesc>,
     /// Free bodies.
+    /// At most 100 000.
     #[serde(default)]
     pub bodies: Vec<BodyDesc>,
     /// Joints between free bodies.
+    /// At most 100 000.
     #[serde(default)]
     pub joints: Vec<JointDesc>,
     /// Articulated trees (part 1's model description).
+    /// At most 1 000 trees, 1 000 bodies in one tree, 100 000 in all.
     #[serde(default)]
     pub articulated: Vec<ArticulatedDesc>,
 }
@@ -68,8 +75,10 @@ pub struct SolverDesc {
     /// Substeps per step (1 … 64).
     pub substeps: i64,
     /// Contact stiffness (Hz).
+    /// Range 1e-2 … 1e5 Hz.
     pub contact_hertz: f64,
     /// Approach speed below which no bounce (m/s).
+    /// Range 0 … 1e3 m/s.
     pub restitution_threshold: f64,
 }
 
@@ -88,9 +97,11 @@ impl Default for SolverDesc {
 #[serde(deny_unknown_fields)]
 pub struct DampingDesc {
     /// Linear (1/s).
+    /// Range 0 … 1e6 1/s.
     #[serde(default)]
     pub linear: f64,
     /// Angular (1/s).
+    /// Range 0 … 1e6 1/s.
     #[serde(default)]
     pub angular: f64,
 }
@@ -102,12 +113,14 @@ pub struct MaterialDesc {
     /// Name, referenced by bodies.
     pub name: String,
     /// Coulomb friction (≥ 0). Pairs mix as `sqrt(μa μb)`.
+    /// Range 0 … 10.
     #[serde(default = "default_friction")]
     pub friction: f64,
     /// Restitution (0 … 1). Pairs take the larger.
     #[serde(default)]
     pub restitution: f64,
     /// Rolling resistance (≥ 0, torque = coefficient · radius · normal force). Pairs take the larger.
+    /// Range 0 … 10.
     #[serde(default)]
     pub rolling_resistance: f64,
 }
@@ -132,32 +145,72 @@ pub enum ShapeDesc {
     /// Box.
     Box {
         /// Half extents (m).
+        /// Range 1e-4 … 1e4 m each.
         half_extents: [f64; 3],
     },
     /// Sphere.
     Sphere {
         /// Radius (m).
+        /// Range 1e-4 … 1e4 m.
         radius: f64,
     },
     /// Capsule.
     Capsule {
         /// Radius (m).
+        /// Range 1e-4 … 1e4 m.
         radius: f64,
         /// Half length of the core segment (m).
+        /// 0 (a sphere) or 1e-4 … 1e4 m.
         half_height: f64,
     },
     /// Cylinder.
     Cylinder {
         /// Radius (m).
+        /// Range 1e-4 … 1e4 m.
         radius: f64,
         /// Half height (m).
+        /// Range 1e-4 … 1e4 m.
         half_height: f64,
     },
     /// Half-space `{x : n·x ≤ 0}` in the body frame (fixed or kinematic bodies only).
     HalfSpace {
         /// Outward normal, body frame.
+        /// Normalised on load: its length must be 1e-6 … 1e6.
         normal: [f64; 3],
     },
+    /// Several primitive shapes rigidly joined into one body. The parts are posed in the
+    /// body's *reference frame*, which the body's `position` and `rotation` place in the
+    /// world; the engine moves the body in its own frame at the centre of mass, along the
+    /// principal axes (mass properties from the parts through `Inertia::xform`).
+    Compound {
+        /// The parts: 1 … 256, each a box, sphere, capsule or cylinder.
+        parts: Vec<PartShapeDesc>,
+    },
+}
+
+/// One part of a compound shape.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartShapeDesc {
+    /// The part's shape (not a half-space or a compound), centred on the part's frame.
+    pub shape: ShapeDesc,
+    /// Centre of the part in the body's reference frame (m).
+    /// Each coordinate within ±1e4 m.
+    #[serde(default)]
+    pub position: [f64; 3],
+    /// Orientation of the part in the reference frame, rotation vector (rad).
+    #[serde(default)]
+    pub rotation: [f64; 3],
+    /// Mass of the part (kg); or give `density`. Without either the part takes the body's
+    /// `density`; with a body `mass`, the parts' masses are scaled to add up to it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// Density of the part (kg/m³).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
+    /// Material name (default: the body's material).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
 }
 
 /// A free body.
@@ -172,22 +225,29 @@ pub struct BodyDesc {
     /// Kind.
     #[serde(default)]
     pub kind: BodyKindDesc,
-    /// Mass (kg); give this or `density` for a dynamic body.
+    /// Mass (kg); give this or `density` for a dynamic body (for a compound: its total mass,
+    /// or per-part masses or densities).
+    /// Range 1e-6 … 1e6 kg.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mass: Option<f64>,
     /// Density (kg/m³).
+    /// Range 1e-2 … 1e5 kg/m³, and density × volume within the mass range.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub density: Option<f64>,
-    /// Centre position (m, world).
+    /// Centre position (m, world); for a compound, the origin of its reference frame.
+    /// Each coordinate within ±1e5 m.
     #[serde(default)]
     pub position: [f64; 3],
     /// Orientation as a rotation vector (axis × angle, rad).
+    /// Angle (length) at most 1e3 rad.
     #[serde(default)]
     pub rotation: [f64; 3],
-    /// Linear velocity (m/s, world).
+    /// Linear velocity of the centre of mass (m/s, world).
+    /// Speed at most 1e3 m/s.
     #[serde(default)]
     pub velocity: [f64; 3],
     /// Angular velocity (rad/s, world).
+    /// Angular speed at most 1e4 rad/s.
     #[serde(default)]
     pub angular_velocity: [f64; 3],
     /// Material name (default material: friction 0.5, no restitution or rolling resistance).
@@ -207,8 +267,10 @@ pub struct JointDesc {
     /// Second body (name).
     pub body2: String,
     /// Anchor (m, world, at the initial poses).
+    /// Each coordinate within ±1e5 m.
     pub anchor: [f64; 3],
     /// Hinge axis (world, revolute only).
+    /// Normalised on load: its length must be 1e-6 … 1e6.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axis: Option<[f64; 3]>,
 }
@@ -220,9 +282,11 @@ pub struct ArticulatedDesc {
     /// Part 1's model description (its `gravity` is replaced by the scene's).
     pub model: ModelDescription,
     /// Initial configuration (default: neutral).
+    /// Each entry within ±1e5 (m or rad).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub q: Option<Vec<f64>>,
     /// Initial velocity (default: zero).
+    /// Each entry within ±1e4 (m/s or rad/s).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub qd: Option<Vec<f64>>,
 }

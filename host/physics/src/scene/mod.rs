@@ -14,9 +14,10 @@ mod validate;
 
 pub use error::{Problem, SceneError};
 pub use format::{
-    ArticulatedDesc, BodyDesc, BodyKindDesc, DampingDesc, JointDesc, MaterialDesc, SceneFile,
-    ShapeDesc, SolverDesc,
+    ArticulatedDesc, BodyDesc, BodyKindDesc, DampingDesc, JointDesc, MaterialDesc, PartShapeDesc,
+    SceneFile, ShapeDesc, SolverDesc,
 };
+pub use validate::limits;
 
 #[allow(unused_imports)]
 use crate::pipeline::World;

@@ -1,61 +1,371 @@
-//! Validation: every problem of a parsed scene, each with its location.
+//! Validation: every problem of a parsed scene, each with its location, and the limits that
+//! keep a scene's numbers physical and its memory bounded.
+//!
+//! Every number is checked to be finite and inside the range of [`limits`] (the scene format
+//! section of the crate README explains each range). Counts are checked twice: on the JSON
+//! text, before serde builds any list ([`check_counts`], [`read_bounded`]), and on the
+//! parsed scene, for scenes built in code.
 
 use std::collections::HashMap;
+use std::io::Read;
+
+use serde::de::{DeserializeSeed, IgnoredAny, MapAccess, SeqAccess, Visitor};
 
 use super::format::{BodyKindDesc, SceneFile, ShapeDesc};
-use super::Problem;
+use super::{Problem, SceneError};
 use crate::pipeline::Effect;
 
-struct Report(Vec<Problem>);
+/// The ranges a scene's numbers must lie in (SI units), and the most entries of each list.
+///
+/// The reasons are in the scene format section of the crate README; in short, each range
+/// holds every physical scene with a wide margin, and keeps the products the step computes
+/// (`v·dt`, `ω²·I`, `m·g`) far from overflow and the sizes far above rounding.
+pub mod limits {
+    /// Sizes: half extents, radii, half heights (m).
+    pub const SIZE_M: (f64, f64) = (1e-4, 1e4);
+    /// Masses, given or from density × volume (kg).
+    pub const MASS_KG: (f64, f64) = (1e-6, 1e6);
+    /// Densities (kg/m³).
+    pub const DENSITY_KG_M3: (f64, f64) = (1e-2, 1e5);
+    /// Largest entry of an articulated body's rotational inertia (kg·m²): the heaviest mass
+    /// at the largest size, `1e6 kg × (1e4 m)²`.
+    pub const INERTIA_KG_M2: f64 = 1e14;
+    /// Largest coordinate of a position, an anchor or a tree's joint placement (m).
+    pub const POSITION_M: f64 = 1e5;
+    /// Largest speed (m/s).
+    pub const SPEED_M_S: f64 = 1e3;
+    /// Largest angular speed (rad/s).
+    pub const ANGULAR_SPEED_RAD_S: f64 = 1e4;
+    /// Largest angle of a rotation vector (rad).
+    pub const ROTATION_RAD: f64 = 1e3;
+    /// The step (s).
+    pub const DT_S: (f64, f64) = (1e-6, 0.1);
+    /// Largest gravity (m/s²).
+    pub const GRAVITY_M_S2: f64 = 1e3;
+    /// Length of a half-space normal or a joint axis (–; they are normalised).
+    pub const DIRECTION_NORM: (f64, f64) = (1e-6, 1e6);
+    /// Contact stiffness (Hz).
+    pub const CONTACT_HERTZ: (f64, f64) = (1e-2, 1e5);
+    /// Largest damping rate (1/s).
+    pub const DAMPING_PER_S: f64 = 1e6;
+    /// Largest friction coefficient (–).
+    pub const FRICTION: f64 = 10.0;
+    /// Largest rolling-resistance coefficient (–).
+    pub const ROLLING_RESISTANCE: f64 = 10.0;
+    /// Largest articulated coordinate (m or rad).
+    pub const TREE_Q: f64 = 1e5;
+    /// Largest articulated velocity (m/s or rad/s).
+    pub const TREE_QD: f64 = 1e4;
+    /// Steps of `vphys run` (`steps`).
+    pub const STEPS: (u64, u64) = (1, 100_000_000);
+    /// Most free bodies.
+    pub const BODIES: usize = 100_000;
+    /// Most shapes, all bodies together.
+    pub const SHAPES: usize = 100_000;
+    /// Most parts of one compound shape.
+    pub const PARTS: usize = 256;
+    /// Largest offset of a compound's part from the body's reference frame (m, each coordinate).
+    pub const PART_OFFSET_M: f64 = 1e4;
+    /// Most joints.
+    pub const JOINTS: usize = 100_000;
+    /// Most materials.
+    pub const MATERIALS: usize = 10_000;
+    /// Most articulated trees.
+    pub const TREES: usize = 1_000;
+    /// Most bodies (links) in one articulated tree.
+    pub const TREE_LINKS: usize = 1_000;
+    /// Most bodies in all articulated trees together.
+    pub const ALL_TREE_LINKS: usize = 100_000;
+    /// Most bytes of scene text.
+    pub const SCENE_BYTES: usize = 64 << 20;
+}
+
+/// Most problems listed; the rest are counted.
+const MAX_PROBLEMS: usize = 50;
+
+/// A number as people write it: plain in `1e-3 … 1e4`, scientific outside.
+pub(crate) fn num(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 || !x.is_finite() || (1e-3..1e4).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// ` unit`, or nothing for a pure number.
+fn sfx(unit: &str) -> String {
+    if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    }
+}
+
+struct Report {
+    problems: Vec<Problem>,
+    more: usize,
+}
 
 impl Report {
     fn add(&mut self, path: impl Into<String>, message: impl Into<String>) {
-        self.0.push(Problem {
-            path: path.into(),
-            message: message.into(),
-        });
+        if self.problems.len() < MAX_PROBLEMS {
+            self.problems.push(Problem {
+                path: path.into(),
+                message: message.into(),
+            });
+        } else {
+            self.more += 1;
+        }
     }
 
-    fn finite3(&mut self, path: &str, v: &[f64; 3]) {
+    fn finish(mut self) -> Vec<Problem> {
+        if self.more > 0 {
+            let more = self.more;
+            self.problems.push(Problem {
+                path: "scene".into(),
+                message: format!("{more} more problem(s) not listed"),
+            });
+        }
+        self.problems
+    }
+
+    /// Finite and in `lo … hi`.
+    fn range(&mut self, path: &str, x: f64, (lo, hi): (f64, f64), unit: &str) {
+        if !(x.is_finite() && x >= lo && x <= hi) {
+            self.add(
+                path,
+                format!(
+                    "must be within {} … {}{}, got {}",
+                    num(lo),
+                    num(hi),
+                    sfx(unit),
+                    num(x)
+                ),
+            );
+        }
+    }
+
+    /// Finite and in `0 … hi`.
+    fn non_negative(&mut self, path: &str, x: f64, hi: f64, unit: &str) {
+        self.range(path, x, (0.0, hi), unit);
+    }
+
+    /// Each component finite and within `±max`, and the length at most `max`.
+    fn bounded3(&mut self, path: &str, v: &[f64; 3], max: f64, unit: &str) {
+        let mut ok = true;
         for (k, x) in v.iter().enumerate() {
             if !x.is_finite() {
                 self.add(format!("{path}[{k}]"), format!("must be finite, got {x}"));
+                ok = false;
+            } else if x.abs() > max {
+                self.add(
+                    format!("{path}[{k}]"),
+                    format!(
+                        "must be within {} … {}{}, got {}",
+                        num(-max),
+                        num(max),
+                        sfx(unit),
+                        num(*x)
+                    ),
+                );
+                ok = false;
+            }
+        }
+        if ok {
+            let n = norm(v);
+            if n > max {
+                self.add(
+                    path,
+                    format!(
+                        "length must be at most {}{}, got {}",
+                        num(max),
+                        sfx(unit),
+                        num(n)
+                    ),
+                );
             }
         }
     }
 
-    fn positive(&mut self, path: &str, x: f64) {
-        if !(x.is_finite() && x > 0.0) {
-            self.add(path, format!("must be positive, got {x}"));
+    /// Each component finite and within `±max` (no length bound: positions and anchors).
+    fn coords3(&mut self, path: &str, v: &[f64; 3], max: f64, unit: &str) {
+        for (k, x) in v.iter().enumerate() {
+            if !x.is_finite() {
+                self.add(format!("{path}[{k}]"), format!("must be finite, got {x}"));
+            } else if x.abs() > max {
+                self.add(
+                    format!("{path}[{k}]"),
+                    format!(
+                        "must be within {} … {}{}, got {}",
+                        num(-max),
+                        num(max),
+                        sfx(unit),
+                        num(*x)
+                    ),
+                );
+            }
         }
     }
 
-    fn non_negative(&mut self, path: &str, x: f64) {
-        if !(x.is_finite() && x >= 0.0) {
-            self.add(path, format!("must be ≥ 0, got {x}"));
+    /// A direction (normalised later): finite, length in [`limits::DIRECTION_NORM`].
+    fn direction(&mut self, path: &str, v: &[f64; 3]) {
+        let (lo, hi) = limits::DIRECTION_NORM;
+        if v.iter().any(|x| !x.is_finite()) {
+            for (k, x) in v.iter().enumerate() {
+                if !x.is_finite() {
+                    self.add(format!("{path}[{k}]"), format!("must be finite, got {x}"));
+                }
+            }
+            return;
+        }
+        // Scaled, so that 1e300 does not overflow the square.
+        let n = norm(v);
+        if n == 0.0 {
+            self.add(path, "must be a non-zero vector");
+        } else if !(lo..=hi).contains(&n) {
+            self.add(
+                path,
+                format!(
+                    "must be a non-zero vector of length {} … {}, got length {}",
+                    num(lo),
+                    num(hi),
+                    num(n)
+                ),
+            );
         }
     }
 }
 
+/// Length of a finite vector without overflow or underflow of the squares.
+fn norm(v: &[f64; 3]) -> f64 {
+    let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    m * v.iter().map(|x| (x / m) * (x / m)).sum::<f64>().sqrt()
+}
+
+/// Volume of a finite shape (m³), `None` for a half-space.
+fn volume(shape: &ShapeDesc) -> Option<f64> {
+    use std::f64::consts::PI;
+    Some(match *shape {
+        ShapeDesc::Box { half_extents: h } => 8.0 * h[0] * h[1] * h[2],
+        ShapeDesc::Sphere { radius: r } => 4.0 / 3.0 * PI * r * r * r,
+        ShapeDesc::Capsule {
+            radius: r,
+            half_height: h,
+        } => PI * r * r * (2.0 * h + 4.0 / 3.0 * r),
+        ShapeDesc::Cylinder {
+            radius: r,
+            half_height: h,
+        } => PI * r * r * 2.0 * h,
+        ShapeDesc::HalfSpace { .. } => return None,
+        ShapeDesc::Compound { ref parts } => {
+            let mut total = 0.0;
+            for p in parts {
+                total += volume(&p.shape)?;
+            }
+            total
+        }
+    })
+}
+
+fn count_problem(path: &str, what: &str, count: usize, limit: usize) -> Problem {
+    Problem {
+        path: path.into(),
+        message: format!("{count} {what}, more than the limit of {limit}"),
+    }
+}
+
 impl SceneFile {
-    /// Every problem of the scene (empty when it is valid).
+    /// The counts of the scene's lists against [`limits`]; the first that is too long.
+    fn count_problem(&self) -> Option<Problem> {
+        let links: usize = self.articulated.iter().map(|a| a.model.bodies.len()).sum();
+        let lists = [
+            ("bodies", "bodies", self.bodies.len(), limits::BODIES),
+            ("bodies", "shapes", self.bodies.len(), limits::SHAPES),
+            ("joints", "joints", self.joints.len(), limits::JOINTS),
+            (
+                "materials",
+                "materials",
+                self.materials.len(),
+                limits::MATERIALS,
+            ),
+            (
+                "articulated",
+                "articulated trees",
+                self.articulated.len(),
+                limits::TREES,
+            ),
+            ("articulated", "tree bodies", links, limits::ALL_TREE_LINKS),
+        ];
+        for (path, what, n, limit) in lists {
+            if n > limit {
+                return Some(count_problem(path, what, n, limit));
+            }
+        }
+        self.articulated.iter().enumerate().find_map(|(k, a)| {
+            (a.model.bodies.len() > limits::TREE_LINKS).then(|| {
+                count_problem(
+                    &format!("articulated[{k}].model.bodies"),
+                    "bodies",
+                    a.model.bodies.len(),
+                    limits::TREE_LINKS,
+                )
+            })
+        })
+    }
+
+    /// Every problem of the scene (empty when it is valid; at most 50 are listed, then a
+    /// count of the others). A list longer than its limit in [`limits`] is the only problem
+    /// reported.
     pub fn problems(&self) -> Vec<Problem> {
-        let mut r = Report(Vec::new());
-        r.positive("dt", self.dt);
+        if let Some(p) = self.count_problem() {
+            return vec![p];
+        }
+        let mut r = Report {
+            problems: Vec::new(),
+            more: 0,
+        };
+        r.range("dt", self.dt, limits::DT_S, "s");
+        if let Some(n) = self.steps {
+            let (lo, hi) = limits::STEPS;
+            if !(lo..=hi).contains(&n) {
+                r.add("steps", format!("must be within {lo} … {hi}, got {n}"));
+            }
+        }
         if !(1..=64).contains(&self.solver.substeps) {
             r.add(
                 "solver.substeps",
                 format!("must be 1 … 64, got {}", self.solver.substeps),
             );
         }
-        r.positive("solver.contact_hertz", self.solver.contact_hertz);
+        r.range(
+            "solver.contact_hertz",
+            self.solver.contact_hertz,
+            limits::CONTACT_HERTZ,
+            "Hz",
+        );
         r.non_negative(
             "solver.restitution_threshold",
             self.solver.restitution_threshold,
+            limits::SPEED_M_S,
+            "m/s",
         );
-        r.finite3("gravity", &self.gravity);
-        r.non_negative("damping.linear", self.damping.linear);
-        r.non_negative("damping.angular", self.damping.angular);
+        r.bounded3("gravity", &self.gravity, limits::GRAVITY_M_S2, "m/s²");
+        r.non_negative(
+            "damping.linear",
+            self.damping.linear,
+            limits::DAMPING_PER_S,
+            "1/s",
+        );
+        r.non_negative(
+            "damping.angular",
+            self.damping.angular,
+            limits::DAMPING_PER_S,
+            "1/s",
+        );
 
         // Effects: no duplicates, requirements declared.
         let mut seen = HashMap::new();
@@ -90,14 +400,14 @@ impl SceneFile {
                     format!("'{}' is already the name of materials[{j}]", m.name),
                 );
             }
-            r.non_negative(&format!("{p}.friction"), m.friction);
-            if !(m.restitution.is_finite() && (0.0..=1.0).contains(&m.restitution)) {
-                r.add(
-                    format!("{p}.restitution"),
-                    format!("must be in [0, 1], got {}", m.restitution),
-                );
-            }
-            r.non_negative(&format!("{p}.rolling_resistance"), m.rolling_resistance);
+            r.non_negative(&format!("{p}.friction"), m.friction, limits::FRICTION, "");
+            r.range(&format!("{p}.restitution"), m.restitution, (0.0, 1.0), "");
+            r.non_negative(
+                &format!("{p}.rolling_resistance"),
+                m.rolling_resistance,
+                limits::ROLLING_RESISTANCE,
+                "",
+            );
         }
 
         // Bodies.
@@ -113,39 +423,47 @@ impl SceneFile {
                 }
             }
             let sp = format!("{p}.shape");
+            let mut sizes_ok = true;
+            let mut size = |r: &mut Report, path: String, x: f64| {
+                let before = r.problems.len() + r.more;
+                r.range(&path, x, limits::SIZE_M, "m");
+                sizes_ok &= r.problems.len() + r.more == before;
+            };
             match &b.shape {
                 ShapeDesc::Box { half_extents } => {
                     for (k, h) in half_extents.iter().enumerate() {
-                        r.positive(&format!("{sp}.half_extents[{k}]"), *h);
+                        size(&mut r, format!("{sp}.half_extents[{k}]"), *h);
                     }
                 }
-                ShapeDesc::Sphere { radius } => r.positive(&format!("{sp}.radius"), *radius),
+                ShapeDesc::Sphere { radius } => size(&mut r, format!("{sp}.radius"), *radius),
                 ShapeDesc::Capsule {
                     radius,
                     half_height,
                 } => {
-                    r.positive(&format!("{sp}.radius"), *radius);
-                    r.non_negative(&format!("{sp}.half_height"), *half_height);
+                    size(&mut r, format!("{sp}.radius"), *radius);
+                    // Zero is a sphere.
+                    if *half_height != 0.0 {
+                        size(&mut r, format!("{sp}.half_height"), *half_height);
+                    }
                 }
                 ShapeDesc::Cylinder {
                     radius,
                     half_height,
                 } => {
-                    r.positive(&format!("{sp}.radius"), *radius);
-                    r.positive(&format!("{sp}.half_height"), *half_height);
+                    size(&mut r, format!("{sp}.radius"), *radius);
+                    size(&mut r, format!("{sp}.half_height"), *half_height);
                 }
                 ShapeDesc::HalfSpace { normal } => {
-                    r.finite3(&format!("{sp}.normal"), normal);
-                    let n2: f64 = normal.iter().map(|x| x * x).sum();
-                    if n2.is_nan() || n2 <= 1e-24 {
-                        r.add(format!("{sp}.normal"), "must be a non-zero vector");
-                    }
+                    r.direction(&format!("{sp}.normal"), normal);
                     if b.kind == BodyKindDesc::Dynamic {
                         r.add(
                             format!("{p}.kind"),
                             "a half-space is infinite: it must be 'fixed' or 'kinematic'",
                         );
                     }
+                }
+                ShapeDesc::Compound { parts } => {
+                    sizes_ok &= compound_parts(&mut r, &sp, parts, b, &self.materials);
                 }
             }
             match (b.kind, b.mass, b.density) {
@@ -156,15 +474,54 @@ impl SceneFile {
                 _ => {}
             }
             if let Some(m) = b.mass {
-                r.positive(&format!("{p}.mass"), m);
+                r.range(&format!("{p}.mass"), m, limits::MASS_KG, "kg");
             }
             if let Some(d) = b.density {
-                r.positive(&format!("{p}.density"), d);
+                let before = r.problems.len() + r.more;
+                r.range(&format!("{p}.density"), d, limits::DENSITY_KG_M3, "kg/m³");
+                let density_ok = r.problems.len() + r.more == before;
+                if let (true, true, None, Some(volume)) =
+                    (density_ok, sizes_ok, b.mass, volume(&b.shape))
+                {
+                    let m = d * volume;
+                    let (lo, hi) = limits::MASS_KG;
+                    if !(lo..=hi).contains(&m) {
+                        r.add(
+                            format!("{p}.density"),
+                            format!(
+                                "gives a mass of {} kg (density × volume), outside {} … {} kg",
+                                num(m),
+                                num(lo),
+                                num(hi)
+                            ),
+                        );
+                    }
+                }
             }
-            r.finite3(&format!("{p}.position"), &b.position);
-            r.finite3(&format!("{p}.rotation"), &b.rotation);
-            r.finite3(&format!("{p}.velocity"), &b.velocity);
-            r.finite3(&format!("{p}.angular_velocity"), &b.angular_velocity);
+            r.coords3(
+                &format!("{p}.position"),
+                &b.position,
+                limits::POSITION_M,
+                "m",
+            );
+            r.bounded3(
+                &format!("{p}.rotation"),
+                &b.rotation,
+                limits::ROTATION_RAD,
+                "rad",
+            );
+            r.bounded3(
+                &format!("{p}.velocity"),
+                &b.velocity,
+                limits::SPEED_M_S,
+                "m/s",
+            );
+            r.bounded3(
+                &format!("{p}.angular_velocity"),
+                &b.angular_velocity,
+                limits::ANGULAR_SPEED_RAD_S,
+                "rad/s",
+            );
             if b.kind == BodyKindDesc::Fixed
                 && (b.velocity.iter().any(|x| *x != 0.0)
                     || b.angular_velocity.iter().any(|x| *x != 0.0))
@@ -217,15 +574,10 @@ impl SceneFile {
                     r.add(&p, "at least one of the two bodies must be dynamic");
                 }
             }
-            r.finite3(&format!("{p}.anchor"), &jd.anchor);
+            r.coords3(&format!("{p}.anchor"), &jd.anchor, limits::POSITION_M, "m");
             match (&jd.axis, jd.kind.as_str()) {
                 (None, "revolute") => r.add(format!("{p}.axis"), "a revolute joint needs an axis"),
-                (Some(a), _) => {
-                    r.finite3(&format!("{p}.axis"), a);
-                    if a.iter().map(|x| x * x).sum::<f64>() < 1e-24 {
-                        r.add(format!("{p}.axis"), "must be a non-zero vector");
-                    }
-                }
+                (Some(a), _) => r.direction(&format!("{p}.axis"), a),
                 _ => {}
             }
         }
@@ -242,6 +594,13 @@ impl SceneFile {
         }
         for (k, a) in self.articulated.iter().enumerate() {
             let p = format!("articulated[{k}].model");
+            let before = r.problems.len() + r.more;
+            r.bounded3(
+                &format!("{p}.gravity"),
+                &a.model.gravity,
+                limits::GRAVITY_M_S2,
+                "m/s²",
+            );
             let mut structural = false;
             for (i, b) in a.model.bodies.iter().enumerate() {
                 let bp = format!("{p}.bodies[{i}]");
@@ -257,9 +616,53 @@ impl SceneFile {
                         structural = true;
                     }
                 }
-                r.positive(&format!("{bp}.inertia.mass"), b.inertia.mass);
-                if b.inertia.mass <= 0.0 || !b.inertia.mass.is_finite() {
-                    structural = true;
+                r.range(
+                    &format!("{bp}.inertia.mass"),
+                    b.inertia.mass,
+                    limits::MASS_KG,
+                    "kg",
+                );
+                r.coords3(
+                    &format!("{bp}.inertia.com"),
+                    &b.inertia.com,
+                    limits::SIZE_M.1,
+                    "m",
+                );
+                for (c, x) in b.inertia.inertia_com.iter().enumerate() {
+                    let ip = format!("{bp}.inertia.inertia_com[{c}]");
+                    if !x.is_finite() {
+                        r.add(ip, format!("must be finite, got {x}"));
+                    } else if x.abs() > limits::INERTIA_KG_M2 {
+                        r.add(
+                            ip,
+                            format!(
+                                "must be within {} … {} kg·m², got {}",
+                                num(-limits::INERTIA_KG_M2),
+                                num(limits::INERTIA_KG_M2),
+                                num(*x)
+                            ),
+                        );
+                    }
+                }
+                r.coords3(
+                    &format!("{bp}.placement.translation"),
+                    &b.placement.translation,
+                    limits::POSITION_M,
+                    "m",
+                );
+                for (row, v) in b.placement.rotation.iter().enumerate() {
+                    // Entries of a rotation matrix lie in [-1, 1]; the model checks the rest.
+                    r.coords3(
+                        &format!("{bp}.placement.rotation[{row}]"),
+                        v,
+                        1.0 + 1e-6,
+                        "",
+                    );
+                }
+                for (field, axis) in [("axis", &b.joint.axis), ("axis2", &b.joint.axis2)] {
+                    if let Some(ax) = axis {
+                        r.direction(&format!("{bp}.joint.{field}"), ax);
+                    }
                 }
                 if !matches!(
                     b.joint.kind.as_str(),
@@ -275,48 +678,503 @@ impl SceneFile {
                         format!("{bp}.joint.type"),
                         format!("unknown joint type '{}'", b.joint.kind),
                     );
-                    structural = true;
                 }
             }
+            // The model is only built from numbers that passed.
+            structural |= r.problems.len() + r.more != before;
             if structural {
                 continue;
             }
             match a.model.build::<f64>() {
                 Err(e) => r.add(&p, e.to_string()),
                 Ok(tree) => {
-                    if let Some(q) = &a.q {
-                        if q.len() != tree.nq() {
+                    let vectors = [
+                        ("q", &a.q, tree.nq(), "coordinates", limits::TREE_Q),
+                        ("qd", &a.qd, tree.nv(), "velocities", limits::TREE_QD),
+                    ];
+                    for (field, values, n, what, max) in vectors {
+                        let Some(values) = values else { continue };
+                        let vp = format!("articulated[{k}].{field}");
+                        if values.len() != n {
                             r.add(
-                                format!("articulated[{k}].q"),
-                                format!(
-                                    "has {} values, the model has {} coordinates",
-                                    q.len(),
-                                    tree.nq()
-                                ),
+                                &vp,
+                                format!("has {} values, the model has {n} {what}", values.len()),
                             );
                         }
-                        if q.iter().any(|x| !x.is_finite()) {
-                            r.add(format!("articulated[{k}].q"), "must be finite");
-                        }
-                    }
-                    if let Some(qd) = &a.qd {
-                        if qd.len() != tree.nv() {
+                        if let Some((c, x)) = values
+                            .iter()
+                            .enumerate()
+                            .find(|(_, x)| !(x.is_finite() && x.abs() <= max))
+                        {
                             r.add(
-                                format!("articulated[{k}].qd"),
+                                format!("{vp}[{c}]"),
                                 format!(
-                                    "has {} values, the model has {} velocities",
-                                    qd.len(),
-                                    tree.nv()
+                                    "must be finite and within {} … {}, got {}",
+                                    num(-max),
+                                    num(max),
+                                    num(*x)
                                 ),
                             );
-                        }
-                        if qd.iter().any(|x| !x.is_finite()) {
-                            r.add(format!("articulated[{k}].qd"), "must be finite");
                         }
                     }
                 }
             }
         }
-        r.0
+        r.finish()
     }
+}
+
+// ---------------------------------------------------------------------------------------
+// Counts on the JSON text, before the lists are built.
+
+/// The entries counted so far, and the first list that went over its limit.
+#[derive(Default)]
+struct Counts {
+    bodies: usize,
+    shapes: usize,
+    joints: usize,
+    materials: usize,
+    trees: usize,
+    /// Bodies of the current tree.
+    links: usize,
+    all_links: usize,
+    over: Option<SceneError>,
+}
+
+/// Which counter an entry adds to.
+type Counter = fn(&mut Counts) -> &mut usize;
+
+impl Counts {
+    /// Counts one more entry; past the limit, an error that stops the parse (the reason is
+    /// kept in `over`).
+    fn bump<E: serde::de::Error>(
+        &mut self,
+        which: Counter,
+        path: impl FnOnce() -> String,
+        what: &'static str,
+        limit: usize,
+    ) -> Result<(), E> {
+        let n = which(self);
+        *n += 1;
+        if *n > limit {
+            let at_least = *n;
+            self.over = Some(SceneError::TooMany {
+                path: path(),
+                what,
+                at_least,
+                limit,
+            });
+            return Err(E::custom("scene list over its limit"));
+        }
+        Ok(())
+    }
+}
+
+/// What a list's entries are.
+#[derive(Clone, Copy)]
+enum List {
+    Bodies,
+    Joints,
+    Materials,
+    Trees,
+    /// The bodies of tree `k`.
+    Links(usize),
+    /// The `shapes` of one body.
+    Shapes,
+}
+
+struct Top<'a>(&'a mut Counts);
+struct ListSeed<'a>(&'a mut Counts, List);
+struct Entry<'a>(&'a mut Counts, List);
+struct ModelSeed<'a>(&'a mut Counts, usize);
+
+impl<'de> DeserializeSeed<'de> for Top<'_> {
+    type Value = ();
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_map(self)
+    }
+}
+
+impl<'de> Visitor<'de> for Top<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a scene object")
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        while let Some(key) = map.next_key::<String>()? {
+            let list = match key.as_str() {
+                "bodies" => List::Bodies,
+                "joints" => List::Joints,
+                "materials" => List::Materials,
+                "articulated" => List::Trees,
+                _ => {
+                    map.next_value::<IgnoredAny>()?;
+                    continue;
+                }
+            };
+            map.next_value_seed(ListSeed(&mut *self.0, list))?;
+        }
+        Ok(())
+    }
+}
+
+impl<'de> DeserializeSeed<'de> for ListSeed<'_> {
+    type Value = ();
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for ListSeed<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a list")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        if let List::Links(_) = self.1 {
+            self.0.links = 0;
+        }
+        // Each entry counts itself as it starts, so a list far over its limit stops at the
+        // first entry past it.
+        while seq
+            .next_element_seed(Entry(&mut *self.0, self.1))?
+            .is_some()
+        {}
+        Ok(())
+    }
+}
+
+impl<'de> DeserializeSeed<'de> for Entry<'_> {
+    type Value = ();
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        let c = self.0;
+        let ignore = |d: D| d.deserialize_ignored_any(IgnoredAny).map(|_| ());
+        match self.1 {
+            List::Bodies | List::Trees => d.deserialize_map(Entry(c, self.1)),
+            List::Shapes => {
+                c.bump(
+                    |c| &mut c.shapes,
+                    || "bodies".into(),
+                    "shapes",
+                    limits::SHAPES,
+                )?;
+                ignore(d)
+            }
+            List::Joints => {
+                c.bump(
+                    |c| &mut c.joints,
+                    || "joints".into(),
+                    "joints",
+                    limits::JOINTS,
+                )?;
+                ignore(d)
+            }
+            List::Materials => {
+                c.bump(
+                    |c| &mut c.materials,
+                    || "materials".into(),
+                    "materials",
+                    limits::MATERIALS,
+                )?;
+                ignore(d)
+            }
+            List::Links(k) => {
+                c.bump(
+                    |c| &mut c.links,
+                    || format!("articulated[{k}].model.bodies"),
+                    "bodies",
+                    limits::TREE_LINKS,
+                )?;
+                c.bump(
+                    |c| &mut c.all_links,
+                    || "articulated".into(),
+                    "tree bodies",
+                    limits::ALL_TREE_LINKS,
+                )?;
+                ignore(d)
+            }
+        }
+    }
+}
+
+impl<'de> Visitor<'de> for Entry<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("an object")
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let c = self.0;
+        let tree = match self.1 {
+            List::Bodies => {
+                c.bump(
+                    |c| &mut c.bodies,
+                    || "bodies".into(),
+                    "bodies",
+                    limits::BODIES,
+                )?;
+                None
+            }
+            _ => {
+                c.bump(
+                    |c| &mut c.trees,
+                    || "articulated".into(),
+                    "articulated trees",
+                    limits::TREES,
+                )?;
+                Some(c.trees - 1)
+            }
+        };
+        while let Some(key) = map.next_key::<String>()? {
+            match (key.as_str(), tree) {
+                ("shape", None) => {
+                    c.bump(
+                        |c| &mut c.shapes,
+                        || "bodies".into(),
+                        "shapes",
+                        limits::SHAPES,
+                    )?;
+                    map.next_value::<IgnoredAny>()?;
+                }
+                ("shapes", None) => map.next_value_seed(ListSeed(&mut *c, List::Shapes))?,
+                ("model", Some(k)) => map.next_value_seed(ModelSeed(&mut *c, k))?,
+                _ => {
+                    map.next_value::<IgnoredAny>()?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl<'de> DeserializeSeed<'de> for ModelSeed<'_> {
+    type Value = ();
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_map(self)
+    }
+}
+
+impl<'de> Visitor<'de> for ModelSeed<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a model description")
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        while let Some(key) = map.next_key::<String>()? {
+            if key == "bodies" {
+                map.next_value_seed(ListSeed(&mut *self.0, List::Links(self.1)))?;
+            } else {
+                map.next_value::<IgnoredAny>()?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Counts the lists of a scene's JSON text against [`limits`] without building them, and
+/// bounds the text's size. Text that is not JSON passes: serde's full parse reports it.
+pub(super) fn check_counts(text: &str) -> Result<(), SceneError> {
+    if text.len() > limits::SCENE_BYTES {
+        return Err(SceneError::TooLarge {
+            bytes: text.len() as u64,
+            limit: limits::SCENE_BYTES as u64,
+        });
+    }
+    let mut counts = Counts::default();
+    let mut de = serde_json::Deserializer::from_str(text);
+    let _ = Top(&mut counts).deserialize(&mut de);
+    match counts.over {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// A reader that keeps what it reads, up to [`limits::SCENE_BYTES`].
+struct Keep<R> {
+    inner: R,
+    kept: Vec<u8>,
+    too_large: bool,
+}
+
+impl<R: Read> Read for Keep<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        if self.kept.len() + n > limits::SCENE_BYTES {
+            self.too_large = true;
+            return Err(std::io::Error::other("scene text over its size limit"));
+        }
+        self.kept.extend_from_slice(&buf[..n]);
+        Ok(n)
+    }
+}
+
+/// Reads a scene's text from `reader` (named `source` in errors), counting its lists while
+/// reading: stops at the first list over its limit ([`SceneError::TooMany`]) or past
+/// [`limits::SCENE_BYTES`] ([`SceneError::TooLarge`]), so neither a huge file nor an
+/// endless stream is held in memory.
+pub(super) fn read_bounded(reader: impl Read, source: &str) -> Result<String, SceneError> {
+    let mut keep = Keep {
+        inner: reader,
+        kept: Vec::new(),
+        too_large: false,
+    };
+    let mut counts = Counts::default();
+    let parsed = {
+        let mut de = serde_json::Deserializer::from_reader(std::io::BufReader::new(&mut keep));
+        Top(&mut counts)
+            .deserialize(&mut de)
+            .and_then(|()| de.end())
+    };
+    if let Some(e) = counts.over {
+        return Err(e);
+    }
+    let too_large = || SceneError::TooLarge {
+        bytes: limits::SCENE_BYTES as u64 + 1,
+        limit: limits::SCENE_BYTES as u64,
+    };
+    let io = |source_error| SceneError::Io {
+        path: source.to_string(),
+        source: source_error,
+    };
+    if keep.too_large {
+        return Err(too_large());
+    }
+    if let Err(e) = parsed {
+        if e.is_io() {
+            return Err(io(std::io::Error::other(e.to_string())));
+        }
+        // Not JSON of the scene's shape: read the rest (bounded) so that the full parse
+        // reports the error in its own words.
+        let mut rest = Vec::new();
+        let read = keep.read_to_end(&mut rest);
+        if keep.too_large {
+            return Err(too_large());
+        }
+        read.map_err(io)?;
+    }
+    String::from_utf8(keep.kept)
+        .map_err(|e| SceneError::Syntax(format!("scene text is not UTF-8: {e}")))
+}
+
+/// Reads a scene file with [`read_bounded`]; a file larger than [`limits::SCENE_BYTES`] is
+/// refused before it is read.
+pub(super) fn read_file(path: &str) -> Result<String, SceneError> {
+    let io = |source| SceneError::Io {
+        path: path.to_string(),
+        source,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let bytes = file.metadata().map_err(io)?.len();
+    if bytes > limits::SCENE_BYTES as u64 {
+        return Err(SceneError::TooLarge {
+            bytes,
+            limit: limits::SCENE_BYTES as u64,
+        });
+    }
+    read_bounded(file, path)
+}
+
+impl SceneFile {
+    /// Reads, parses and validates a scene from `reader` (JSON): its lists are counted
+    /// while reading and the text is bounded ([`limits`]), so an oversized scene is refused
+    /// before anything is built for it.
+    pub fn from_reader(reader: impl Read) -> Result<Self, SceneError> {
+        let text = read_bounded(reader, "<reader>")?;
+        Self::from_json(&text)
+    }
+}
+
+/// Checks a compound's parts: 1 … [`limits::PARTS`] primitives with sizes, poses, masses and
+/// materials in range. `false` when a size is out of range.
+fn compound_parts(
+    r: &mut Report,
+    sp: &str,
+    parts: &[super::format::PartShapeDesc],
+    body: &super::format::BodyDesc,
+    materials: &[super::format::MaterialDesc],
+) -> bool {
+    if parts.is_empty() || parts.len() > limits::PARTS {
+        r.add(
+            format!("{sp}.parts"),
+            format!(
+                "a compound has 1 … {} parts, not {}",
+                limits::PARTS,
+                parts.len()
+            ),
+        );
+    }
+    let mut ok = true;
+    for (k, part) in parts.iter().enumerate() {
+        let pp = format!("{sp}.parts[{k}]");
+        let mut size = |r: &mut Report, path: String, x: f64| {
+            let before = r.problems.len() + r.more;
+            r.range(&path, x, limits::SIZE_M, "m");
+            ok &= r.problems.len() + r.more == before;
+        };
+        match &part.shape {
+            ShapeDesc::Box { half_extents } => {
+                for (i, h) in half_extents.iter().enumerate() {
+                    size(r, format!("{pp}.shape.half_extents[{i}]"), *h);
+                }
+            }
+            ShapeDesc::Sphere { radius } => size(r, format!("{pp}.shape.radius"), *radius),
+            ShapeDesc::Capsule {
+                radius,
+                half_height,
+            } => {
+                size(r, format!("{pp}.shape.radius"), *radius);
+                if *half_height != 0.0 {
+                    size(r, format!("{pp}.shape.half_height"), *half_height);
+                }
+            }
+            ShapeDesc::Cylinder {
+                radius,
+                half_height,
+            } => {
+                size(r, format!("{pp}.shape.radius"), *radius);
+                size(r, format!("{pp}.shape.half_height"), *half_height);
+            }
+            ShapeDesc::HalfSpace { .. } | ShapeDesc::Compound { .. } => r.add(
+                format!("{pp}.shape"),
+                "a compound's parts are boxes, spheres, capsules or cylinders",
+            ),
+        }
+        r.coords3(
+            &format!("{pp}.position"),
+            &part.position,
+            limits::PART_OFFSET_M,
+            "m",
+        );
+        r.bounded3(
+            &format!("{pp}.rotation"),
+            &part.rotation,
+            limits::ROTATION_RAD,
+            "rad",
+        );
+        if part.mass.is_some() && part.density.is_some() {
+            r.add(&pp, "give either 'mass' or 'density', not both");
+        }
+        if let Some(m) = part.mass {
+            r.range(&format!("{pp}.mass"), m, limits::MASS_KG, "kg");
+        }
+        if let Some(d) = part.density {
+            r.range(&format!("{pp}.density"), d, limits::DENSITY_KG_M3, "kg/m³");
+        }
+        if body.kind == BodyKindDesc::Dynamic
+            && body.mass.is_none()
+            && body.density.is_none()
+            && part.mass.is_none()
+            && part.density.is_none()
+        {
+            r.add(
+                &pp,
+                "a part of a dynamic compound needs 'mass' or 'density' (or the body's 'mass' or 'density')",
+            );
+        }
+        if let Some(m) = &part.material {
+            if !materials.iter().any(|x| &x.name == m) {
+                r.add(format!("{pp}.material"), format!("no material named '{m}'"));
+            }
+        }
+    }
+    ok
 }

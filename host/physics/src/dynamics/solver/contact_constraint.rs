@@ -161,7 +161,10 @@ impl ContactConstraint {
         } else {
             M3::zeros()
         };
-        let (ma, mb) = (&bodies.material[a], &bodies.material[b]);
+        let (ma, mb) = (
+            &bodies.part_material(a, m.part_a),
+            &bodies.part_material(b, m.part_b),
+        );
         let n = m.normal;
         let tangents = tangent_basis(&n);
         let (va, wa, vb, wb) = (
@@ -196,7 +199,8 @@ impl ContactConstraint {
         }
         let rr = if settings.rolling {
             ma.rolling_resistance.max(mb.rolling_resistance)
-                * rolling_radius(&bodies.shape[a]).max(rolling_radius(&bodies.shape[b]))
+                * rolling_radius(bodies.part_shape(a, m.part_a))
+                    .max(rolling_radius(bodies.part_shape(b, m.part_b)))
         } else {
             0.0
         };
