@@ -55,15 +55,17 @@ fn config() -> impl Strategy<Value = MouseConfig> {
         0..4u8,
         prop_oneof![Just(0), Just(u64::MAX), 0..5_000_000u64],
         prop_oneof![Just(0), Just(u64::MAX), 0..100_000u64],
+        prop_oneof![Just(0), Just(u64::MAX), 0..100_000u64],
         prop_oneof![Just(0), Just(u64::MAX), 0..200_000u64],
     )
         .prop_map(
-            |(sample_rate, code, self_test, reply, silence)| MouseConfig {
+            |(sample_rate, code, self_test, send, reply, probe)| MouseConfig {
                 sample_rate,
                 resolution: Resolution::from_code(code).unwrap_or_default(),
                 self_test_timeout_us: self_test,
+                send_timeout_us: send,
                 reply_timeout_us: reply,
-                silence_timeout_us: silence,
+                probe_after_us: probe,
             },
         )
 }
@@ -83,7 +85,7 @@ fn apply(driver: &mut MouseDriver, ops: &[Op]) -> u64 {
                 check_packet(driver, packet.is_some());
             }
             Op::Poll => {
-                if driver.poll(now).is_some() && driver.config().reply_timeout_us > 0 {
+                if driver.poll(now).is_some() && driver.config().send_timeout_us > 0 {
                     assert_eq!(driver.poll(now), None, "one command at a time");
                 }
             }

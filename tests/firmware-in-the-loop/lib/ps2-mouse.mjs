@@ -10,8 +10,9 @@
 //    low during an 11th clock;
 //  * commands: reset (0xFF → 0xFA, self-test, 0xAA 0x00), set sample rate (0xF3 n),
 //    set resolution (0xE8 n), enable / disable reporting (0xF4 / 0xF5), read data
-//    (0xEB → 0xFA + a packet), get id (0xF2), set defaults (0xF6), scaling
-//    (0xE6 / 0xE7), resend (0xFE); a parity error or an unknown command → 0xFE;
+//    (0xEB → 0xFA + a packet), status request (0xE9 → 0xFA, flags, resolution,
+//    rate), get id (0xF2), set defaults (0xF6), scaling (0xE6 / 0xE7), resend
+//    (0xFE → the last packet again); a parity error or an unknown command → 0xFE;
 //  * streaming: scripted motion (`move`) goes out in 3-byte packets at the sample
 //    rate, each delta clamped to the 9-bit range;
 //  * hot-plug: `unplug` releases both wires and goes silent; `plug` powers up again
@@ -242,7 +243,8 @@ export class Ps2Mouse {
     this.sentMotion.dy += dy;
     this.lastPacket = { dx, dy };
     const status = 0x08 | (dx < 0 ? 0x10 : 0) | (dy < 0 ? 0x20 : 0);
-    return [status, dx & 0xff, dy & 0xff];
+    this.lastPacketBytes = [status, dx & 0xff, dy & 0xff];
+    return this.lastPacketBytes;
   }
 
   /** Sends one frame; false if the host inhibited it (it stays queued). */
@@ -369,8 +371,11 @@ export class Ps2Mouse {
       case 0xe7:
         reply(0xfa);
         break;
-      case 0xfe: // resend: nothing kept to resend here; answer with ACK
-        reply(0xfa);
+      case 0xfe: // resend: the last packet again (no acknowledge)
+        reply(...(this.lastPacketBytes ?? [0x08, 0x00, 0x00]));
+        break;
+      case 0xe9: // status request: acknowledge, flags, resolution, sample rate
+        reply(0xfa, this.streaming ? 0x20 : 0, this.resolution, this.sampleRate);
         break;
       default:
         reply(0xfe);

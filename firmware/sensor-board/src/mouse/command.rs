@@ -13,6 +13,14 @@ pub const ENABLE_REPORTING: u8 = 0xF4;
 /// clears its counters, so no motion is lost). Harmless in stream mode: the driver's
 /// liveness probe.
 pub const READ_DATA: u8 = 0xEB;
+/// Host → mouse: status request; answered by [`ACK`] and three status bytes: flags
+/// ([`STATUS_REMOTE_MODE`], [`STATUS_REPORTING`], scaling, buttons), the resolution
+/// code and the sample rate.
+pub const STATUS_REQUEST: u8 = 0xE9;
+/// Status byte 1: the mouse is in remote (polled) mode, not stream mode.
+pub const STATUS_REMOTE_MODE: u8 = 0x40;
+/// Status byte 1: data reporting is enabled.
+pub const STATUS_REPORTING: u8 = 0x20;
 /// Host → mouse: get device id; answered by [`ACK`] and the id.
 pub const GET_DEVICE_ID: u8 = 0xF2;
 
@@ -28,6 +36,6 @@ pub const SELF_TEST_PASSED: u8 = 0xAA;
 /// Mouse → host: device id of a standard PS/2 mouse, sent after [`SELF_TEST_PASSED`].
 pub const DEVICE_ID_MOUSE: u8 = 0x00;
 
-/// The command the driver sends to a silent streaming mouse to check it is still
-/// there (expects [`ACK`]).
-pub const PROBE: u8 = READ_DATA;
+/// The command the driver sends to a silent streaming mouse, and after a doubtful
+/// byte, to check it is still there and still has its settings.
+pub const PROBE: u8 = STATUS_REQUEST;

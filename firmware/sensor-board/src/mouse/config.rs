@@ -56,6 +56,10 @@ pub const ABSENT_RETRY_INTERVAL_US: u64 = 250_000;
 /// and so look like status bytes to the bit-3 resync.
 pub const INTER_BYTE_TIMEOUT_US: u64 = 2_000;
 
+/// How many times one command is sent before its failure counts: a failed send
+/// (no clock, no acknowledge, a stalled frame) or a missing reply is retried once.
+pub const SEND_ATTEMPTS: u8 = 2;
+
 /// Configuration of one mouse port. All times in microseconds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -70,40 +74,45 @@ pub struct MouseConfig {
     /// leaves a margin (an absent mouse fails earlier: it does not acknowledge the
     /// reset).
     pub self_test_timeout_us: u64,
-    /// How long a command may take from the moment [`crate::MouseDriver::poll`] hands
-    /// it out until the mouse's reply arrives (request-to-send, clocking the byte in,
-    /// the mouse's response time — spec: ≤ 20 ms), microseconds. Default 25 ms.
+    /// How long sending one command may take, from the moment
+    /// [`crate::MouseDriver::poll`] hands it out until the device has clocked it in
+    /// and acknowledged it, microseconds. PS/2: the device starts clocking within
+    /// 15 ms of request-to-send and the frame takes at most 2 ms; default 20 ms.
+    pub send_timeout_us: u64,
+    /// How long the mouse may take to answer a command once it has received it,
+    /// microseconds. PS/2: 20 ms; default 25 ms.
     pub reply_timeout_us: u64,
-    /// A streaming port silent this long is declared absent, microseconds. A mouse
-    /// with no motion sends nothing, so after `silence_timeout_us - reply_timeout_us`
-    /// of silence the driver sends a probe (`0xEB` read data, answered by `0xFA`);
-    /// an unanswered probe makes the port absent at `silence_timeout_us`. Should
-    /// exceed `reply_timeout_us`. Default 75 ms (probe after 50 ms of silence), which
-    /// reports an unplugged mouse absent well within 100 ms.
-    pub silence_timeout_us: u64,
+    /// A streaming mouse silent this long is probed with a status request (`0xE9`):
+    /// a present mouse answers `0xFA` and its three status bytes, which also show
+    /// whether it still has the settings the driver gave it. Default 30 ms, so an
+    /// unplugged mouse is absent within [`unplug_detection_us`](Self::unplug_detection_us).
+    pub probe_after_us: u64,
 }
 
 impl MouseConfig {
-    /// The defaults: 200 samples/s, 8 counts/mm, 3 s self-test, 25 ms reply
-    /// timeout, 75 ms silence timeout.
+    /// The defaults: 200 samples/s, 8 counts/mm, 3 s self-test, 20 ms to send a
+    /// command, 25 ms for its reply, probe after 30 ms of silence.
     pub const DEFAULT: Self = Self {
         sample_rate: 200,
         resolution: Resolution::CountsPerMm8,
         self_test_timeout_us: 3_000_000,
+        send_timeout_us: 20_000,
         reply_timeout_us: 25_000,
-        silence_timeout_us: 75_000,
+        probe_after_us: 30_000,
     };
 
-    /// Silence after which a streaming mouse is probed, microseconds (at least 1 ms).
-    pub const fn probe_after_us(&self) -> u64 {
-        let after = self
-            .silence_timeout_us
-            .saturating_sub(self.reply_timeout_us);
-        if after < 1_000 {
-            1_000
-        } else {
-            after
-        }
+    /// Longest time from a streaming mouse's last byte until the driver declares it
+    /// absent when it is unplugged (it never clocks the probe in): the probe's
+    /// silence, then [`SEND_ATTEMPTS`] sends that fail, microseconds.
+    pub const fn unplug_detection_us(&self) -> u64 {
+        self.probe_after_us
+            .saturating_add(self.send_timeout_us.saturating_mul(SEND_ATTEMPTS as u64))
+    }
+
+    /// Longest time a present, slow but compliant mouse may take to answer a probe
+    /// (send, then reply), microseconds.
+    pub const fn command_budget_us(&self) -> u64 {
+        self.send_timeout_us.saturating_add(self.reply_timeout_us)
     }
 }
 
@@ -128,22 +137,14 @@ mod tests {
     }
 
     #[test]
-    fn defaults_detect_unplug_within_100_ms() {
+    fn defaults_detect_unplug_within_100_ms_and_fit_a_slow_mouse() {
         let config = MouseConfig::default();
         assert_eq!(config.sample_rate, 200);
         assert!(config.self_test_timeout_us >= 2_500_000);
+        // PS/2: 15 ms to start clocking + 2 ms frame; 20 ms to reply.
+        assert!(config.send_timeout_us >= 17_000);
         assert!(config.reply_timeout_us >= 20_000);
-        assert_eq!(config.probe_after_us(), 50_000);
-        assert!(config.silence_timeout_us < 100_000);
-    }
-
-    #[test]
-    fn probe_interval_never_zero() {
-        let config = MouseConfig {
-            silence_timeout_us: 10,
-            reply_timeout_us: 20,
-            ..MouseConfig::DEFAULT
-        };
-        assert_eq!(config.probe_after_us(), 1_000);
+        assert!(config.command_budget_us() >= 37_000);
+        assert!(config.unplug_detection_us() < 100_000);
     }
 }

@@ -14,41 +14,48 @@
 //! | [`SetResolution`](DriverState::SetResolution) | `0xE8` | `0xFA` | `SetResolutionValue` |
 //! | [`SetResolutionValue`](DriverState::SetResolutionValue) | code | `0xFA` | `EnableReporting` |
 //! | [`EnableReporting`](DriverState::EnableReporting) | `0xF4` | `0xFA` | `Streaming` (REINITIALISED) |
-//! | [`Streaming`](DriverState::Streaming) | `0xEB` probe after silence | packets; `0xFA` to a probe | — |
+//! | [`Streaming`](DriverState::Streaming) | `0xE9` status probe after silence or a doubtful byte; `0xFE` after a garbled frame | packets; `0xFA` + 3 status bytes to a probe; the packet again to `0xFE` | `SetSampleRate` if the status shows other settings |
 //! | [`Absent`](DriverState::Absent) | `0xFF` every 250 ms | `0xFA` | `ResetSelfTest` |
 //!
 //! In every state:
 //!
-//! * A reply timeout, or a failed send ([`SendError`]), makes the port
-//!   [`Absent`](DriverState::Absent). The absent port retries the reset every
-//!   [`ABSENT_RETRY_INTERVAL_US`], so a replugged mouse is found.
-//! * `0xFE` (resend) repeats the command, up to [`MAX_RESENDS`] times; more, or `0xFC`
-//!   (error), or a garbled reply restarts the initialisation from `Reset`; after
-//!   [`MAX_INIT_ATTEMPTS`] failed attempts in a row the port is absent.
+//! * Sending a command may take [`MouseConfig::send_timeout_us`] (PS/2: clocking starts
+//!   within 15 ms, the frame takes ≤ 2 ms), its reply [`MouseConfig::reply_timeout_us`]
+//!   (PS/2: 20 ms). A failed send ([`SendError`]) or a missing reply is retried once
+//!   ([`SEND_ATTEMPTS`]; an early failure waits out the attempt's send time first);
+//!   the second failure makes the port [`Absent`](DriverState::Absent). The absent
+//!   port retries the reset every [`ABSENT_RETRY_INTERVAL_US`], so a replugged mouse
+//!   is found.
+//! * `0xFE` (resend) from the mouse repeats the command, up to [`MAX_RESENDS`] times;
+//!   more, or `0xFC` (error), or a garbled reply restarts the initialisation from
+//!   `Reset`; after [`MAX_INIT_ATTEMPTS`] failed attempts in a row the port is absent.
 //! * A spontaneous `0xAA 0x00` (self-test passed + id: the mouse was plugged in or
 //!   restarted, and is now in its power-on defaults) restarts the configuration at
 //!   `SetSampleRate`: no second reset is needed.
 //!
-//! **Detecting an unplugged mouse while streaming.** A mouse in stream mode with no
-//! motion sends nothing, so silence alone cannot tell idle from unplugged. After
-//! [`MouseConfig::probe_after_us`] of silence (default 50 ms) the driver sends a probe,
-//! `0xEB` (read data): a present mouse answers `0xFA` and a movement packet (motion is
-//! not lost: the packet carries it). A probe that cannot be sent, or is not answered by
-//! `silence_timeout_us` after the last byte (default 75 ms), makes the port absent —
-//! within the 100 ms the cabinet requires. Any other byte arriving meanwhile proves the
+//! **Idle, unplugged, or restarted unseen.** A mouse in stream mode with no motion
+//! sends nothing. After [`MouseConfig::probe_after_us`] of silence (default 30 ms), or
+//! at once after a doubtful byte (a lone `0x00` where a packet starts, a lone `0xAA`
+//! cut short: a restart whose `0xAA 0x00` was lost in part), the driver sends a status
+//! request (`0xE9`): a present mouse answers `0xFA` and three status bytes. If they
+//! show reporting off, remote mode, or another resolution or sample rate, the mouse
+//! restarted into its defaults and is configured again. An unanswered probe is
+//! retried once, then the port is absent — an unplugged mouse within
+//! [`MouseConfig::unplug_detection_us`]. Any other byte arriving meanwhile proves the
 //! mouse is alive and cancels the verdict.
 //!
 //! **Packet framing.** Byte 0 of a packet always has bit 3 set; a byte without it
 //! where byte 0 is expected is dropped (resynchronisation). A partial packet whose next
 //! byte is later than [`INTER_BYTE_TIMEOUT_US`] is dropped. A garbled frame (framing or
-//! parity error) takes its byte's place in the packet, and the whole packet is
-//! discarded; the sticky error event is set.
+//! parity error) sets its sticky error event, drops the partial packet and asks for
+//! it again with `0xFE`, which makes the mouse send its last packet again; after
+//! [`MAX_RESENDS`] garbled copies the packet is dropped ([`DriverStats::dropped`]).
 
 use super::command::{
     ACK, DEVICE_ID_MOUSE, ENABLE_REPORTING, ERROR, PROBE, RESEND, RESET, SELF_TEST_PASSED,
-    SET_RESOLUTION, SET_SAMPLE_RATE,
+    SET_RESOLUTION, SET_SAMPLE_RATE, STATUS_REMOTE_MODE, STATUS_REPORTING,
 };
-use super::config::{MouseConfig, ABSENT_RETRY_INTERVAL_US, INTER_BYTE_TIMEOUT_US};
+use super::config::{MouseConfig, ABSENT_RETRY_INTERVAL_US, INTER_BYTE_TIMEOUT_US, SEND_ATTEMPTS};
 use super::events::{DriverEvents, DriverStats};
 use super::packet::{MousePacket, PACKET_LEN};
 use crate::ps2::{FrameError, Ps2Frame, SendError};
@@ -86,6 +93,16 @@ pub enum DriverState {
     Absent,
 }
 
+/// The command a streaming driver sends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+enum StreamCommand {
+    /// Status request: liveness, and the mouse's settings compared with the config.
+    Probe,
+    /// A packet arrived garbled: the mouse sends its last packet again.
+    Resend,
+}
+
 /// Progress of the command of the current state.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -99,6 +116,9 @@ enum Phase {
     /// Sent; the reply (or, in `ResetSelfTest`/`ResetDeviceId`, the byte) is due by
     /// `deadline`.
     AwaitReply { deadline: u64 },
+    /// A send failed early (e.g. a device busy in its self-test); the retry goes
+    /// out at `until`, when the failed attempt's send time is used up.
+    Backoff { until: u64 },
 }
 
 /// Driver of one PS/2 mouse port. See the [module documentation](self).
@@ -110,6 +130,18 @@ pub struct MouseDriver {
     phase: Phase,
     /// `0xFE` replies to the current command so far.
     resends: u8,
+    /// Failed sends (or missing replies) of the current command so far.
+    attempts: u8,
+    /// What a streaming driver's command is.
+    stream_command: StreamCommand,
+    /// The probe's `0xFA` has arrived; its status bytes follow.
+    probe_acked: bool,
+    /// The probe's status bytes so far.
+    status: [u8; 3],
+    /// How many of `status` have arrived.
+    status_len: u8,
+    /// Resends asked for the packet being received.
+    packet_resends: u8,
     /// Failed initialisation attempts in a row.
     init_attempts: u8,
     /// The previous byte was `0xAA` outside a packet: a following `0x00` means the
@@ -142,6 +174,12 @@ impl MouseDriver {
             state: DriverState::Reset,
             phase: Phase::Due,
             resends: 0,
+            attempts: 0,
+            stream_command: StreamCommand::Probe,
+            probe_acked: false,
+            status: [0; 3],
+            status_len: 0,
+            packet_resends: 0,
             init_attempts: 0,
             bat_pending: false,
             packet: [0; PACKET_LEN],
@@ -166,6 +204,10 @@ impl MouseDriver {
                 inits: 0,
                 restarts: 0,
                 probes: 0,
+                retries: 0,
+                resends: 0,
+                dropped: 0,
+                reconfigurations: 0,
             },
         }
     }
@@ -193,7 +235,7 @@ impl MouseDriver {
         match received {
             Ok(byte) => self.on_good_byte(now_us, byte, previous_frame_us),
             Err(error) => {
-                self.on_bad_frame(now_us, error, previous_frame_us);
+                self.on_bad_frame(now_us, error);
                 None
             }
         }
@@ -206,22 +248,29 @@ impl MouseDriver {
         match self.phase {
             Phase::Due => return Some(self.hand_out(now_us)),
             Phase::Sending { since } => {
-                if now_us.saturating_sub(since) >= self.config.reply_timeout_us {
-                    self.timed_out(now_us);
+                if now_us.saturating_sub(since) >= self.config.send_timeout_us {
+                    return self.timed_out_retry(now_us);
                 }
             }
             Phase::AwaitReply { deadline } => {
                 if now_us >= deadline {
-                    self.timed_out(now_us);
+                    return self.timed_out_retry(now_us);
+                }
+            }
+            Phase::Backoff { until } => {
+                if now_us >= until {
+                    return Some(self.hand_out(now_us));
                 }
             }
             Phase::Idle => match self.state {
                 DriverState::Streaming => {
                     let silent_us = now_us.saturating_sub(self.last_frame_us);
-                    if silent_us >= self.config.probe_after_us() {
-                        self.clear_packet();
-                        self.probe_alive = false;
-                        self.stats.probes = self.stats.probes.wrapping_add(1);
+                    if silent_us >= self.config.probe_after_us {
+                        if self.packet_len > 0 {
+                            // A packet cut short long ago.
+                            self.drop_packet();
+                        }
+                        self.start_probe();
                         return Some(self.hand_out(now_us));
                     }
                 }
@@ -242,21 +291,21 @@ impl MouseDriver {
             return;
         };
         match result {
+            // The mouse has the byte: the spec's reply time runs from now.
             Ok(()) => {
-                // The probe's deadline runs from when it was handed out, so an
-                // unplugged mouse is absent by `silence_timeout_us`; an
-                // initialisation command gets the spec's full reply time after the
-                // byte went out.
-                let from = if self.state == DriverState::Streaming {
-                    since
-                } else {
-                    now_us
-                };
                 self.phase = Phase::AwaitReply {
-                    deadline: from.saturating_add(self.config.reply_timeout_us),
+                    deadline: now_us.saturating_add(self.config.reply_timeout_us),
                 };
             }
-            Err(_) => self.timed_out(now_us),
+            Err(_) => {
+                self.timed_out(now_us);
+                if self.phase == Phase::Due {
+                    let until = since.saturating_add(self.config.send_timeout_us);
+                    if until > now_us {
+                        self.phase = Phase::Backoff { until };
+                    }
+                }
+            }
         }
     }
 
@@ -305,7 +354,10 @@ impl MouseDriver {
             DriverState::SetResolution => SET_RESOLUTION,
             DriverState::SetResolutionValue => self.config.resolution.code(),
             DriverState::EnableReporting => ENABLE_REPORTING,
-            DriverState::Streaming => PROBE,
+            DriverState::Streaming => match self.stream_command {
+                StreamCommand::Probe => PROBE,
+                StreamCommand::Resend => RESEND,
+            },
             DriverState::Reset
             | DriverState::ResetSelfTest
             | DriverState::ResetDeviceId
@@ -321,17 +373,86 @@ impl MouseDriver {
 
     /// Whether a command is out and its reply not yet in.
     fn command_outstanding(&self) -> bool {
-        matches!(self.phase, Phase::Sending { .. } | Phase::AwaitReply { .. })
+        matches!(
+            self.phase,
+            Phase::Sending { .. } | Phase::AwaitReply { .. } | Phase::Backoff { .. }
+        )
     }
 
-    /// A reply did not come in time, or the command could not be sent.
+    /// A reply did not come in time, or the command could not be sent: the command
+    /// is sent again, up to [`SEND_ATTEMPTS`] times in all, before the port counts
+    /// as absent.
     fn timed_out(&mut self, now_us: u64) {
         if self.state == DriverState::Streaming && self.probe_alive {
-            // The probe went unanswered, but the mouse has sent other bytes since.
+            // Unanswered, but the mouse has sent other bytes since: it is there.
+            if self.stream_command == StreamCommand::Resend {
+                self.drop_packet();
+            }
             self.phase = Phase::Idle;
+            return;
+        }
+        let retryable = !matches!(
+            self.state,
+            DriverState::Absent | DriverState::ResetSelfTest | DriverState::ResetDeviceId
+        );
+        if retryable && self.attempts.saturating_add(1) < SEND_ATTEMPTS {
+            self.attempts += 1;
+            self.stats.retries = self.stats.retries.wrapping_add(1);
+            self.probe_acked = false;
+            self.status_len = 0;
+            self.phase = Phase::Due;
         } else {
             self.go_absent(now_us);
         }
+    }
+
+    /// [`timed_out`](Self::timed_out) from `poll`: a retry goes out at once.
+    fn timed_out_retry(&mut self, now_us: u64) -> Option<u8> {
+        self.timed_out(now_us);
+        (self.phase == Phase::Due).then(|| self.hand_out(now_us))
+    }
+
+    /// Makes the next command a status request (liveness and settings).
+    fn start_probe(&mut self) {
+        self.stream_command = StreamCommand::Probe;
+        self.probe_alive = false;
+        self.probe_acked = false;
+        self.status_len = 0;
+        self.attempts = 0;
+        self.stats.probes = self.stats.probes.wrapping_add(1);
+    }
+
+    /// A doubtful byte while streaming (one that does not fit the packet stream: the
+    /// mouse may have restarted and lost part of its `0xAA 0x00`): check its
+    /// settings now.
+    fn check_settings_soon(&mut self) {
+        if self.phase == Phase::Idle {
+            self.start_probe();
+            self.phase = Phase::Due;
+        }
+    }
+
+    /// The probe's three status bytes arrived: configure the mouse again if they
+    /// are not the settings it was given (it restarted into its defaults unseen).
+    fn on_status(&mut self, now_us: u64) {
+        let [flags, resolution, rate] = self.status;
+        let as_configured = flags & STATUS_REPORTING != 0
+            && flags & STATUS_REMOTE_MODE == 0
+            && resolution == self.config.resolution.code()
+            && rate == self.config.sample_rate;
+        if as_configured {
+            self.phase = Phase::Idle;
+        } else {
+            self.stats.reconfigurations = self.stats.reconfigurations.wrapping_add(1);
+            self.enter(DriverState::SetSampleRate, now_us);
+        }
+    }
+
+    /// A packet is lost for good.
+    fn drop_packet(&mut self) {
+        self.clear_packet();
+        self.packet_resends = 0;
+        self.stats.dropped = self.stats.dropped.wrapping_add(1);
     }
 
     fn on_good_byte(
@@ -386,6 +507,7 @@ impl MouseDriver {
     fn on_reply(&mut self, now_us: u64, byte: u8) {
         match byte {
             ACK => {
+                self.attempts = 0;
                 let next = match self.state {
                     DriverState::Reset | DriverState::Absent => DriverState::ResetSelfTest,
                     DriverState::SetSampleRate => DriverState::SetSampleRateValue,
@@ -414,6 +536,11 @@ impl MouseDriver {
     fn enter(&mut self, state: DriverState, now_us: u64) {
         self.state = state;
         self.resends = 0;
+        self.attempts = 0;
+        self.stream_command = StreamCommand::Probe;
+        self.probe_acked = false;
+        self.status_len = 0;
+        self.packet_resends = 0;
         self.bat_pending = false;
         self.clear_packet();
         self.phase = match state {
@@ -478,8 +605,13 @@ impl MouseDriver {
     /// Drops a partial packet whose next byte came too late.
     fn drop_stale_packet(&mut self, now_us: u64, previous_frame_us: u64) {
         if self.packet_len > 0 && now_us.saturating_sub(previous_frame_us) > INTER_BYTE_TIMEOUT_US {
-            self.clear_packet();
+            // A lone `0xAA`: a restart whose `0x00` was lost.
+            let lone_self_test = self.packet_len == 1 && self.packet[0] == SELF_TEST_PASSED;
+            self.drop_packet();
             self.stats.resyncs = self.stats.resyncs.wrapping_add(1);
+            if lone_self_test {
+                self.check_settings_soon();
+            }
         }
     }
 
@@ -489,17 +621,51 @@ impl MouseDriver {
         byte: u8,
         previous_frame_us: u64,
     ) -> Option<MousePacket> {
+        if self.stream_command == StreamCommand::Resend
+            && matches!(self.phase, Phase::Due | Phase::Sending { .. })
+        {
+            // The rest of the garbled packet, before the resend went out: the
+            // resend brings the whole packet again.
+            return None;
+        }
         if self.command_outstanding() {
             self.probe_alive = true;
-            if self.packet_len == 0 && matches!(byte, ACK | RESEND | ERROR) {
-                // The probe's answer: the mouse is there.
-                self.phase = Phase::Idle;
-                return None;
+            match self.stream_command {
+                StreamCommand::Probe if self.probe_acked => {
+                    self.status[usize::from(self.status_len).min(2)] = byte;
+                    self.status_len = self.status_len.saturating_add(1);
+                    if usize::from(self.status_len) == self.status.len() {
+                        self.on_status(now_us);
+                    }
+                    return None;
+                }
+                StreamCommand::Probe if self.packet_len == 0 => match byte {
+                    ACK => {
+                        self.probe_acked = true;
+                        return None;
+                    }
+                    RESEND | ERROR => {
+                        // Answered, if not as asked: the mouse is there.
+                        self.phase = Phase::Idle;
+                        return None;
+                    }
+                    _ => {}
+                },
+                StreamCommand::Probe => {}
+                // Some mice acknowledge a resend before the packet.
+                StreamCommand::Resend if self.packet_len == 0 && byte == ACK => return None,
+                // The packet again: the resend is answered.
+                StreamCommand::Resend => self.phase = Phase::Idle,
             }
         }
         self.drop_stale_packet(now_us, previous_frame_us);
         if self.packet_len == 0 && !MousePacket::is_first_byte(byte) {
             self.stats.resyncs = self.stats.resyncs.wrapping_add(1);
+            if byte == DEVICE_ID_MOUSE {
+                // A lone `0x00` where a packet starts: maybe a restart whose `0xAA`
+                // was lost.
+                self.check_settings_soon();
+            }
             return None;
         }
         let slot = usize::from(self.packet_len).min(PACKET_LEN - 1);
@@ -527,11 +693,12 @@ impl MouseDriver {
         if corrupt {
             return None;
         }
+        self.packet_resends = 0;
         self.stats.packets = self.stats.packets.wrapping_add(1);
         Some(MousePacket::from_bytes(self.packet))
     }
 
-    fn on_bad_frame(&mut self, now_us: u64, error: FrameError, previous_frame_us: u64) {
+    fn on_bad_frame(&mut self, now_us: u64, error: FrameError) {
         if error.is_framing() {
             self.events.framing_error = true;
             self.stats.framing_errors = self.stats.framing_errors.wrapping_add(1);
@@ -542,19 +709,32 @@ impl MouseDriver {
         self.bat_pending = false;
         match self.state {
             DriverState::Streaming => {
-                if self.command_outstanding() {
+                let resending = self.stream_command == StreamCommand::Resend;
+                if self.command_outstanding() && !resending {
+                    // Most likely the probe's garbled answer: the mouse is there.
                     self.probe_alive = true;
-                    if self.packet_len == 0 {
-                        // Most likely the probe's garbled answer: the mouse is there.
-                        self.phase = Phase::Idle;
-                        return;
-                    }
+                    self.phase = Phase::Idle;
+                    self.clear_packet();
+                    return;
                 }
-                self.drop_stale_packet(now_us, previous_frame_us);
-                // The garbled byte takes its slot; the packet will be discarded.
-                self.packet_corrupt = true;
-                self.packet_len = self.packet_len.saturating_add(1);
-                let _ = self.finish_slot();
+                if resending && matches!(self.phase, Phase::Due | Phase::Sending { .. }) {
+                    // More of the packet already being resent.
+                    return;
+                }
+                // Ask for the packet again (`0xFE`: the mouse resends its last
+                // packet), up to `MAX_RESENDS` times, before it counts as dropped.
+                self.clear_packet();
+                if self.packet_resends < MAX_RESENDS {
+                    self.packet_resends += 1;
+                    self.stats.resends = self.stats.resends.wrapping_add(1);
+                    self.stream_command = StreamCommand::Resend;
+                    self.probe_alive = false;
+                    self.attempts = 0;
+                    self.phase = Phase::Due;
+                } else {
+                    self.drop_packet();
+                    self.phase = Phase::Idle;
+                }
             }
             // Noise on an absent port changes nothing; the retry goes on.
             DriverState::Absent => {}

@@ -41,6 +41,16 @@ pub struct DriverStats {
     pub inits: u32,
     /// Spontaneous self-test results (`0xAA 0x00`) seen: mouse restarts or hot-plugs.
     pub restarts: u32,
-    /// Liveness probes sent to a silent streaming mouse.
+    /// Status requests sent: to a silent streaming mouse (liveness), or after a
+    /// doubtful byte (a restart seen only in part).
     pub probes: u32,
+    /// Commands sent again after a failed send or a missing reply.
+    pub retries: u32,
+    /// Resend requests (`0xFE`) sent for garbled packets.
+    pub resends: u32,
+    /// Packets lost for good: garbled after every resend, or cut short.
+    pub dropped: u32,
+    /// Times a status request showed settings other than the configured ones (the
+    /// mouse restarted unseen) and the mouse was configured again.
+    pub reconfigurations: u32,
 }

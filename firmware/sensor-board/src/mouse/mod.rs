@@ -6,7 +6,9 @@ pub mod driver;
 pub mod events;
 pub mod packet;
 
-pub use config::{MouseConfig, Resolution, ABSENT_RETRY_INTERVAL_US, INTER_BYTE_TIMEOUT_US};
+pub use config::{
+    MouseConfig, Resolution, ABSENT_RETRY_INTERVAL_US, INTER_BYTE_TIMEOUT_US, SEND_ATTEMPTS,
+};
 pub use driver::{DriverState, MouseDriver, MAX_INIT_ATTEMPTS, MAX_RESENDS};
 pub use events::{DriverEvents, DriverStats};
 pub use packet::MousePacket;

@@ -109,6 +109,8 @@ pub struct FakeMouse {
     pub received: Vec<u8>,
     pub sample_rate: u8,
     pub resolution: u8,
+    /// The last movement packet sent, for `0xFE`.
+    last_packet: [u8; 3],
 }
 
 impl FakeMouse {
@@ -125,6 +127,7 @@ impl FakeMouse {
             received: Vec::new(),
             sample_rate: 100,
             resolution: 2,
+            last_packet: MousePacket::default().to_bytes(),
         }
     }
 
@@ -183,6 +186,17 @@ impl FakeMouse {
                     self.outbox.push_back((at, b));
                 }
             }
+            0xE9 => {
+                let flags = if self.streaming { 0x20 } else { 0x00 };
+                for b in [0xFA, flags, self.resolution, self.sample_rate] {
+                    self.outbox.push_back((at, b));
+                }
+            }
+            0xFE => {
+                for b in self.last_packet {
+                    self.outbox.push_back((at, b));
+                }
+            }
             0xF2 => {
                 self.outbox.push_back((at, 0xFA));
                 self.outbox.push_back((at, 0x00));
@@ -213,10 +227,19 @@ impl FakeMouse {
                 dy,
                 ..MousePacket::default()
             };
+            self.last_packet = packet.to_bytes();
             for b in packet.to_bytes() {
                 self.outbox.push_back((now, b));
             }
         }
+    }
+
+    /// Restarts at `now` (a brown-out): power-on defaults, and its `0xAA 0x00`
+    /// announcement is lost on the wire.
+    pub fn restart_unannounced(&mut self, now: u64) {
+        self.defaults();
+        self.outbox.clear();
+        self.busy_until = now + self.self_test_us;
     }
 
     pub fn unplug(&mut self) {
