@@ -45,8 +45,12 @@ enum Command {
         /// Targets to run (default: all).
         targets: Vec<String>,
     },
-    /// Runs files through a target in this process (a saved failure, a finding).
+    /// Runs files through a target in this process (a saved failure, a finding) and
+    /// prints each one's verdict, or the property it fails; exits 1 if any fails.
     Replay {
+        /// Cap on the live heap, MiB (past it the process aborts).
+        #[arg(long, default_value_t = 1024)]
+        heap_mib: usize,
         /// The target.
         target: String,
         /// Input files.
@@ -148,15 +152,32 @@ fn run(command: Command) -> Result<ExitCode, String> {
                 Ok(ExitCode::FAILURE)
             }
         }
-        Command::Replay { target, files } => {
+        Command::Replay {
+            heap_mib,
+            target,
+            files,
+        } => {
             let target = find(&target)?;
+            alloc::set_cap(heap_mib.saturating_mul(1 << 20));
+            let mut failed = 0;
             for file in &files {
                 let bytes = std::fs::read(file)
                     .map_err(|e| format!("cannot read {}: {e}", file.display()))?;
-                let verdict = (target.run)(&bytes);
-                println!("{}: {verdict:?}", file.display());
+                // The panic message is printed by the panic hook; the verdict line
+                // follows it.
+                match std::panic::catch_unwind(|| (target.run)(&bytes)) {
+                    Ok(verdict) => println!("{}: {verdict:?}", file.display()),
+                    Err(_) => {
+                        failed += 1;
+                        println!("{}: FAILED", file.display());
+                    }
+                }
             }
-            Ok(ExitCode::SUCCESS)
+            Ok(if failed == 0 {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::FAILURE
+            })
         }
         Command::List => {
             for t in &TARGETS {

@@ -13,9 +13,10 @@ pub(super) fn first_non_finite(world: &World) -> Option<String> {
             && b.omega[i].iter().all(|v| v.is_finite());
         if !finite {
             return Some(format!(
-                "body {i} ({:?}): pos {:?} vel {:?} omega {:?}",
+                "body {i} ({:?}): pos {:?} rot {:?} vel {:?} omega {:?}",
                 b.name[i],
                 b.pos[i].as_slice(),
+                b.rot[i].as_slice(),
                 b.vel[i].as_slice(),
                 b.omega[i].as_slice()
             ));
