@@ -24,11 +24,30 @@ export class Ps2Mouse {
   /**
    * @param {import('./board.mjs').Board} board
    * @param {{ port: number, data: number, clock: number, halfPeriodUs?: number,
-   *           selfTestUs?: number, replyDelayUs?: number, sampleClock?: number }} options
+   *           selfTestUs?: number, replyDelayUs?: number, sampleClock?: number,
+   *           rtsDelayUs?: number, parityErrorRate?: number, seed?: number }} options
    *   sampleClock: the mouse's own time base relative to the board's (1.01 = its
    *   sample period is 1 % long), so its packets drift against the host's frames
+   *   rtsDelayUs: how long after request-to-send the mouse starts clocking (PS/2:
+   *   up to 15 ms); replyDelayUs: from a received command to its answer (≤ 20 ms)
+   *   parityErrorRate: fraction of the frames it sends with the parity bit flipped
+   *   (a deterministic generator seeded with `seed`)
    */
-  constructor(board, { port, data, clock, halfPeriodUs = 40, selfTestUs = 5000, replyDelayUs = 150, sampleClock = 1 }) {
+  constructor(
+    board,
+    {
+      port,
+      data,
+      clock,
+      halfPeriodUs = 40,
+      selfTestUs = 5000,
+      replyDelayUs = 150,
+      sampleClock = 1,
+      rtsDelayUs = halfPeriodUs,
+      parityErrorRate = 0,
+      seed = 1,
+    },
+  ) {
     this.board = board;
     this.port = port;
     this.dataPin = data;
@@ -37,6 +56,13 @@ export class Ps2Mouse {
     this.selfTestNs = selfTestUs * US;
     this.replyDelayNs = replyDelayUs * US;
     this.sampleClock = sampleClock;
+    this.rtsDelayNs = rtsDelayUs * US;
+    this.parityErrorRate = parityErrorRate;
+    this.random = seed >>> 0 || 1;
+    /** Frames sent with a flipped parity bit. */
+    this.parityErrorsSent = 0;
+    /** Busy in its self-test until then: request-to-send goes unanswered. */
+    this.busyUntilNs = 0;
     board.attachWire(data);
     board.attachWire(clock, () => this.onClockChange());
 
@@ -92,6 +118,29 @@ export class Ps2Mouse {
     this.delayed = [];
     this.board.setDeviceLow(this.dataPin, false);
     this.board.setDeviceLow(this.clockPin, false);
+  }
+
+  /**
+   * Restarts (a brown-out): power-on defaults, busy for the self-test, then its
+   * announcement — with the 0xAA lost on the wire when `loseSelfTestByte`.
+   */
+  restart({ loseSelfTestByte = false } = {}) {
+    this.defaults();
+    this.outQueue = [];
+    this.streamPacket = null;
+    this.busyUntilNs = this.board.timeNs + this.selfTestNs;
+    this.delayed = [{ atNs: this.busyUntilNs, bytes: loseSelfTestByte ? [0x00] : [0xaa, 0x00] }];
+    this.start();
+  }
+
+  /** xorshift32: the next pseudo-random number in [0, 1). */
+  nextRandom() {
+    let x = this.random;
+    x ^= x << 13;
+    x ^= x >>> 17;
+    x ^= x << 5;
+    this.random = x >>> 0;
+    return this.random / 2 ** 32;
   }
 
   /** Plugs the mouse back in: power-up defaults, then 0xAA 0x00 after the self-test. */
@@ -183,7 +232,7 @@ export class Ps2Mouse {
         return;
       }
       const now = this.board.timeNs;
-      if (this.requestToSend()) {
+      if (this.requestToSend() && now >= this.busyUntilNs) {
         yield* this.receiveByte();
         continue;
       }
@@ -206,7 +255,9 @@ export class Ps2Mouse {
         if (sent) {
           this.sent.push({ byte: this.outQueue.shift(), timeUs: this.board.timeUs });
           if (this.outQueue.length === 0 && this.streamPacket) {
-            this.packets.push({ ...this.streamPacket, endUs: this.lastFrameEndNs / US });
+            const { dx, dy, bytes } = this.streamPacket;
+            this.packets.push({ dx, dy, endUs: this.lastFrameEndNs / US });
+            this.lastPacketBytes = bytes; // what a resend (0xFE) repeats
             this.streamPacket = null;
           }
         }
@@ -217,7 +268,7 @@ export class Ps2Mouse {
       if (this.streaming && moving && now >= this.lastPacketNs + period) {
         this.lastPacketNs = now;
         const bytes = this.packet();
-        this.streamPacket = { dx: this.lastPacket.dx, dy: this.lastPacket.dy };
+        this.streamPacket = { dx: this.lastPacket.dx, dy: this.lastPacket.dy, bytes };
         this.outQueue.push(...bytes);
         continue;
       }
@@ -243,8 +294,7 @@ export class Ps2Mouse {
     this.sentMotion.dy += dy;
     this.lastPacket = { dx, dy };
     const status = 0x08 | (dx < 0 ? 0x10 : 0) | (dy < 0 ? 0x20 : 0);
-    this.lastPacketBytes = [status, dx & 0xff, dy & 0xff];
-    return this.lastPacketBytes;
+    return [status, dx & 0xff, dy & 0xff];
   }
 
   /** Sends one frame; false if the host inhibited it (it stays queued). */
@@ -256,7 +306,12 @@ export class Ps2Mouse {
       bits.push(bit);
       ones += bit;
     }
-    bits.push(ones % 2 === 0 ? 1 : 0, 1);
+    let parity = ones % 2 === 0 ? 1 : 0;
+    if (this.parityErrorRate > 0 && this.nextRandom() < this.parityErrorRate) {
+      parity ^= 1;
+      this.parityErrorsSent++;
+    }
+    bits.push(parity, 1);
     const board = this.board;
     for (const bit of bits) {
       board.setDeviceLow(this.dataPin, bit === 0);
@@ -281,7 +336,7 @@ export class Ps2Mouse {
   *receiveByte() {
     const board = this.board;
     const inhibitUs = this.lastInhibitUs;
-    yield this.half; // the device starts clocking within 10 ms; here after 40 µs
+    yield this.rtsDelayNs; // the device starts clocking within 15 ms
     const bits = [];
     for (let i = 0; i < 10; i++) {
       board.setDeviceLow(this.clockPin, true);
@@ -313,9 +368,20 @@ export class Ps2Mouse {
     }
     const parityOk = (ones + bits[8]) % 2 === 1;
     this.received.push({ byte, timeUs: board.timeUs, parityOk, inhibitUs });
-    // A command cancels whatever the mouse was about to send.
-    this.outQueue = [];
+    // A command cancels whatever the mouse was about to send. A stream packet cut
+    // short is sent again if the command is a resend, else its motion goes back
+    // into the counters (as a mouse keeps its motion).
+    const interrupted = this.streamPacket;
     this.streamPacket = null;
+    this.outQueue = [];
+    const resend = parityOk && bits[9] === 1 && byte === 0xfe && !this.expectArgument;
+    if (interrupted && !resend) {
+      this.pending.dx += interrupted.dx;
+      this.pending.dy += interrupted.dy;
+      this.sentMotion.dx -= interrupted.dx;
+      this.sentMotion.dy -= interrupted.dy;
+    }
+    this.interrupted = resend ? interrupted : null;
     yield this.replyDelayNs;
     if (!parityOk || bits[9] !== 1) {
       this.outQueue.push(0xfe);
@@ -371,8 +437,14 @@ export class Ps2Mouse {
       case 0xe7:
         reply(0xfa);
         break;
-      case 0xfe: // resend: the last packet again (no acknowledge)
-        reply(...(this.lastPacketBytes ?? [0x08, 0x00, 0x00]));
+      case 0xfe: // resend: the packet cut short, else the last one, again (no acknowledge)
+        if (this.interrupted) {
+          this.streamPacket = this.interrupted;
+          reply(...this.interrupted.bytes);
+        } else {
+          reply(...(this.lastPacketBytes ?? [0x08, 0x00, 0x00]));
+        }
+        this.interrupted = null;
         break;
       case 0xe9: // status request: acknowledge, flags, resolution, sample rate
         reply(0xfa, this.streaming ? 0x20 : 0, this.resolution, this.sampleRate);

@@ -1,0 +1,128 @@
+// Realistic mice and faults on the wire, on its own emulation: PS/2 clocks from
+// 10 to 16.7 kHz, 10–15 ms to answer request-to-send, replies up to 20 ms, self-tests
+// from 20 ms to 2.5 s (the PS/2 limits), then a quick restart whose 0xAA is lost and
+// 1 % parity errors on every mouse.
+import { before, describe, it } from 'node:test';
+import assert from 'node:assert/strict';
+import { createRig } from '../lib/rig.mjs';
+import { STATUS } from '../lib/reports.mjs';
+
+const CONFIG_SEQUENCE = [0xf3, 200, 0xe8, 0x03, 0xf4];
+
+/** Per port: clock 10–16.7 kHz, 10–15 ms to start clocking after request-to-send,
+ *  replies 5–20 ms, self-tests 20 ms–2.5 s. */
+function slowMouse(port) {
+  return {
+    halfPeriodUs: 30 + (20 * port) / 7,
+    rtsDelayUs: 10_000 + (5_000 * port) / 7,
+    replyDelayUs: 5_000 + (15_000 * ((port * 3) % 8)) / 7,
+    selfTestUs: [20_000, 2_500_000, 300_000, 500_000, 1_000_000, 50_000, 1_500_000, 100_000][port],
+    seed: 0x9e3779b9 ^ (port * 0x85ebca6b),
+  };
+}
+
+function containsRun(haystack, needle) {
+  for (let i = 0; i + needle.length <= haystack.length; i++) {
+    if (needle.every((b, j) => haystack[i + j] === b)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+describe('realistic mice on the wire', () => {
+  let rig;
+  const lastReport = () => rig.reports(rig.host.inReports.length - 1)[0];
+
+  before(() => {
+    rig = createRig({ mouse: slowMouse });
+    rig.host.enumerate();
+    rig.host.startPolling();
+  });
+
+  it('slow but compliant mice (15 ms to clock, 20 ms replies, 2.5 s self-test) come up and stay present', (t) => {
+    const { board, mice } = rig;
+    const allPresent = () => lastReport()?.paddles.every((p) => p.status & STATUS.PRESENT);
+    assert.ok(board.runUntil(allPresent, 4_000_000), 'all eight PRESENT within 4 s (self-tests up to 2.5 s)');
+    t.diagnostic(`all present at ${(board.timeUs / 1000).toFixed(0)} ms`);
+    const from = rig.host.inReports.length;
+    // 600 ms idle: the driver probes every 30 ms of silence; each probe takes the
+    // slow mice up to 15 + 1 + 20 ms to answer.
+    board.runUs(600_000);
+    const reports = rig.reports(from);
+    for (const r of reports) {
+      r.paddles.forEach((p, i) => assert.ok(p.status & STATUS.PRESENT, `paddle ${i} stays present`));
+    }
+    const probes = mice.map((m) => m.commands().filter((b) => b === 0xe9).length);
+    t.diagnostic(`status probes per mouse: ${probes.join(', ')}`);
+    probes.forEach((n, i) => assert.ok(n >= 5, `mouse ${i} probed ${n} times`));
+    assert.ok(board.logMatching(/sensors present \(bit = port\): 11111111/).length === 1, 'no port ever dropped out');
+  });
+
+  it('a quick restart whose 0xAA is lost is detected and re-initialisation under way within 100 ms', (t) => {
+    const { board, mice } = rig;
+    const port = 0; // 20 ms self-test, 10 ms to clock, 5 ms replies
+    const mouse = mice[port];
+    const commandsFrom = mouse.received.length;
+    const reportFrom = rig.host.inReports.length;
+    const restartedAt = board.timeUs;
+    mouse.restart({ loseSelfTestByte: true });
+    // Detected: the configuration starts again (the status request showed the
+    // power-on defaults).
+    const reconfiguring = () => mouse.commands(commandsFrom).includes(0xf3);
+    assert.ok(board.runUntil(reconfiguring, 100_000, 100), `re-initialising within 100 ms: got ${mouse.commands(commandsFrom)}`);
+    const detectedMs = (board.timeUs - restartedAt) / 1000;
+    // Then five commands, each at most 15 ms to clock + 1.1 ms frame + 20 ms reply.
+    const configured = () => mouse.streaming && mouse.sampleRate === 200 && mouse.resolution === 3;
+    assert.ok(board.runUntil(configured, 5 * 36_100, 100), `configured: got ${mouse.commands(commandsFrom)}`);
+    const configuredMs = (board.timeUs - restartedAt) / 1000;
+    t.diagnostic(
+      `mouse ${port}: re-initialisation started ${detectedMs.toFixed(1)} ms after the restart, ` +
+        `streaming at its settings again after ${configuredMs.toFixed(1)} ms`,
+    );
+    assert.ok(containsRun(mouse.commands(commandsFrom), CONFIG_SEQUENCE));
+    board.runUs(40_000);
+    const flagged = rig.reports(reportFrom).some((r) => r.paddles[port].status & STATUS.REINITIALISED);
+    assert.ok(flagged, 'REINITIALISED reported');
+    assert.ok(lastReport().paddles[port].status & STATUS.PRESENT);
+    // Its motion arrives at full resolution.
+    const motionFrom = rig.host.inReports.length;
+    mouse.move(120, -40);
+    board.runUs(30_000);
+    const sum = rig.reports(motionFrom).reduce((s, r) => s + r.paddles[port].axial, 0);
+    assert.equal(sum, 120);
+  });
+
+  it('1 % parity errors on every mouse lose less than one packet of motion per fault', (t) => {
+    const { board, mice } = rig;
+    mice.forEach((m) => {
+      m.parityErrorRate = 0.01;
+      m.parityErrorsSent = 0;
+      m.takeSentMotion();
+    });
+    const from = rig.host.inReports.length;
+    // 3 s of every mouse moving 1 + port counts per ms in x: a packet every 5 ms.
+    for (let ms = 0; ms < 3000; ms++) {
+      mice.forEach((m, port) => m.move(1 + port, 0));
+      board.runUs(1000);
+    }
+    mice.forEach((m) => (m.parityErrorRate = 0));
+    board.runUs(100_000);
+    const reports = rig.reports(from);
+    let faults = 0;
+    mice.forEach((mouse, port) => {
+      const sent = mouse.takeSentMotion().dx;
+      const received = reports.reduce((s, r) => s + r.paddles[port].axial, 0);
+      const lost = sent - received;
+      const packet = 5 * (1 + port);
+      faults += mouse.parityErrorsSent;
+      t.diagnostic(`mouse ${port}: ${mouse.parityErrorsSent} parity errors, ${sent} counts sent, ${lost} lost (a packet: ${packet})`);
+      assert.ok(received <= sent, `mouse ${port}: more motion reported than sent`);
+      assert.ok(lost < Math.max(1, mouse.parityErrorsSent) * packet, `mouse ${port}: ${lost} counts lost to ${mouse.parityErrorsSent} faults`);
+      assert.ok(reports.every((r) => r.paddles[port].status & STATUS.PRESENT), `paddle ${port} stays present`);
+    });
+    assert.ok(faults >= 50, `${faults} parity errors injected`);
+    const flagged = reports.filter((r) => r.paddles.some((p) => p.status & STATUS.PARITY_ERROR)).length;
+    assert.ok(flagged > 0, 'parity errors are flagged');
+  });
+});
