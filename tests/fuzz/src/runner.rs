@@ -4,8 +4,8 @@
 //! Every input is copied into the [`InputSlot`] before it runs, and a watchdog thread
 //! aborts the process when one input runs longer than the per-input limit, so a hang
 //! is reported like a crash. The pool starts as the corpus; mutants the target accepts
-//! join it (up to [`POOL_CAP`] inputs, then they replace random ones), so the loop
-//! keeps working from inputs that get past the parsers.
+//! join it (up to [`POOL_CAP`] inputs, then they replace random earlier mutants; the
+//! corpus stays), so the loop keeps working from inputs that get past the parsers.
 
 use std::io;
 use std::path::{Path, PathBuf};
@@ -138,7 +138,9 @@ pub fn run(target: &'static Target, options: &RunOptions, slot: &mut InputSlot) 
             if pool.len() < POOL_CAP {
                 pool.push(input);
             } else if rng.one_in(4) {
-                let i = rng.below(pool.len());
+                // The corpus stays: only mutants are replaced.
+                let kept = corpus.len().min(POOL_CAP - 1);
+                let i = kept + rng.below(pool.len() - kept);
                 pool[i] = input;
             }
         }
