@@ -1,7 +1,8 @@
 //! [`SocketBoard`]: the game's client of the emulator process over a Unix-domain socket.
 
 use std::io;
-use std::os::fd::AsRawFd;
+use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
+use std::os::unix::ffi::OsStrExt;
 use std::os::unix::net::UnixStream;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -122,8 +123,7 @@ impl Connector for SocketConnector {
         if let Some(dir) = socket_wire::socket_dir(&self.path) {
             socket_wire::check_socket_dir(dir)?;
         }
-        let stream = UnixStream::connect(&self.path)?;
-        stream.set_nonblocking(true)?;
+        let stream = connect_without_waiting(&self.path)?;
         let mut transport = SocketTransport {
             stream,
             reader: FrameReader::new(),
@@ -137,6 +137,68 @@ impl Connector for SocketConnector {
             Err(TransportError::Broken(e) | TransportError::Transient(e)) => Err(e),
         }
     }
+}
+
+/// Connects a non-blocking Unix stream socket to `path` without waiting: a server
+/// whose queue of unaccepted connections is full (one that stopped calling `accept`)
+/// is an [`io::ErrorKind::WouldBlock`] error at once, where a blocking connect would
+/// wait for it indefinitely.
+fn connect_without_waiting(path: &Path) -> io::Result<UnixStream> {
+    let bytes = path.as_os_str().as_bytes();
+    // SAFETY: sockaddr_un is plain data, for which all zeroes is a valid value.
+    let mut addr: libc::sockaddr_un = unsafe { std::mem::zeroed() };
+    // One byte stays for the terminating NUL.
+    if bytes.len() >= addr.sun_path.len() || bytes.contains(&0) {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "socket path {} is not usable: at most {} bytes, no NUL",
+                path.display(),
+                addr.sun_path.len() - 1
+            ),
+        ));
+    }
+    addr.sun_family = libc::AF_UNIX as libc::sa_family_t;
+    for (dst, &src) in addr.sun_path.iter_mut().zip(bytes) {
+        *dst = src as libc::c_char;
+    }
+    let len = std::mem::offset_of!(libc::sockaddr_un, sun_path) + bytes.len() + 1;
+    // SAFETY: plain socket(2); the result is checked.
+    let fd = unsafe {
+        libc::socket(
+            libc::AF_UNIX,
+            libc::SOCK_STREAM | libc::SOCK_NONBLOCK | libc::SOCK_CLOEXEC,
+            0,
+        )
+    };
+    if fd < 0 {
+        return Err(io::Error::last_os_error());
+    }
+    // SAFETY: `fd` is a socket just opened, owned by nobody else.
+    let fd = unsafe { OwnedFd::from_raw_fd(fd) };
+    // SAFETY: `addr` is a valid sockaddr_un and `len` does not exceed its size.
+    let connected = unsafe {
+        libc::connect(
+            fd.as_raw_fd(),
+            (&addr as *const libc::sockaddr_un).cast(),
+            len as libc::socklen_t,
+        )
+    };
+    if connected != 0 {
+        let e = io::Error::last_os_error();
+        return Err(if e.kind() == io::ErrorKind::WouldBlock {
+            io::Error::new(
+                io::ErrorKind::WouldBlock,
+                format!(
+                    "the emulator at {} accepts no connections (its queue is full)",
+                    path.display()
+                ),
+            )
+        } else {
+            e
+        });
+    }
+    Ok(UnixStream::from(fd))
 }
 
 struct SocketTransport {

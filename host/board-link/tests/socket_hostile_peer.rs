@@ -3,7 +3,8 @@
 //!
 //! Each peer is a thread on a Unix socket in a temporary directory: one floods valid
 //! hello frames without pause, one sends hello frames one byte per write, one sends
-//! garbage, one says nothing at all.
+//! garbage, one says nothing at all; and a server that stopped accepting connections
+//! (its queue full) must not hold a poll's reconnect either.
 //!
 //! The bound is checked on the median of [`CALLS`] polls with `t` = [`TIMEOUT`]: the
 //! median is under `t + 10 ms` only if the poll itself honours its deadline, while one
@@ -187,4 +188,52 @@ fn the_client_refuses_a_socket_folder_others_can_write() {
         error.to_string().contains("writable by group or others"),
         "{error}"
     );
+}
+
+#[test]
+fn a_server_that_stopped_accepting_cannot_hold_a_poll() {
+    use std::os::fd::AsRawFd;
+    let (_dir, path) = socket_path();
+    let listener = bind_listener(&path).unwrap();
+    // A backlog of 0: the kernel queues one connection, then the queue is full.
+    // SAFETY: listen(2) on the listener's open socket.
+    assert_eq!(unsafe { libc::listen(listener.as_raw_fd(), 0) }, 0);
+    // On a thread: a blocking connect would hang there, failing the wait below.
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut queued = Vec::new();
+        let full = loop {
+            match SocketBoard::connect(&path) {
+                Ok(board) => queued.push(board),
+                Err(e) => break e,
+            }
+            assert!(queued.len() < 64, "the queue never filled");
+        };
+        let mut board = SocketBoard::new(&path);
+        let mut times = Vec::with_capacity(CALLS);
+        let mut results = Vec::with_capacity(CALLS);
+        for _ in 0..CALLS {
+            let started = Instant::now();
+            let result = board.poll_report(TIMEOUT);
+            times.push(started.elapsed());
+            results.push(format!("{result:?}"));
+        }
+        let _ = tx.send((full, times, results));
+    });
+    let (full, mut times, results) = rx
+        .recv_timeout(Duration::from_secs(30))
+        .expect("connecting to a full queue hung");
+    assert!(
+        matches!(&full, BoardError::Io(e) if e.kind() == std::io::ErrorKind::WouldBlock),
+        "{full}"
+    );
+    assert!(full.to_string().contains("queue is full"), "{full}");
+    assert!(
+        results.iter().all(|r| r == "Err(Disconnected)"),
+        "{results:?}"
+    );
+    times.sort();
+    eprintln!("full queue: polls of {TIMEOUT:?} took {times:?}");
+    assert!(times[CALLS / 2] < TIMEOUT + SLACK, "{times:?}");
+    drop(listener);
 }
