@@ -83,9 +83,43 @@ pub enum TableError {
         /// What is wrong.
         reason: String,
     },
+    /// A number outside its physical range (the table format docs list the ranges).
+    #[error("{what} must be within {} … {}, got {}", num(*.lo), num(*.hi), num(*.value))]
+    OutOfRange {
+        /// Which value ("goal.height_m", "Home params.mass_kg", …).
+        what: String,
+        /// What it is.
+        value: f64,
+        /// Lowest allowed (SI unit of the field).
+        lo: f64,
+        /// Highest allowed.
+        hi: f64,
+    },
+    /// A rod has too few or too many men.
+    #[error("rod {rod}: {men} men, must be {lo} … {hi}")]
+    Men {
+        /// Rod index.
+        rod: usize,
+        /// Men on it.
+        men: usize,
+        /// Fewest allowed.
+        lo: usize,
+        /// Most allowed.
+        hi: usize,
+    },
     /// Something else is inconsistent (teams, goal vs field, no rods).
     #[error("{0}")]
     Inconsistent(String),
+}
+
+/// A number as people write it: plain in `1e-3 … 1e4`, scientific outside (so `1e19`, not
+/// twenty digits).
+fn num(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-3..1e4).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
 }
 
 fn positive(what: impl Into<String>, value: f64) -> Result<(), TableError> {
@@ -118,6 +152,65 @@ fn in_range(
     }
 }
 
+/// A value that must lie in `lo … hi` (finite); the message states the range and unit.
+fn ranged(what: impl Into<String>, value: f64, (lo, hi): (f64, f64)) -> Result<(), TableError> {
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(TableError::OutOfRange {
+            what: what.into(),
+            value,
+            lo,
+            hi,
+        })
+    }
+}
+
+/// The physical ranges of a table's numbers (SI units). Real tables are about 1.2 × 0.7 m
+/// with 100 mm high rods, a 35 mm ball of 24–29 g and men of 70–140 g, 1 to 5 on a rod;
+/// each range holds those with a generous margin (custom and toy tables, the lighter men
+/// of the presets) and keeps the physics world small: a table is at most 5 m × 3 m with at
+/// most 8 rods (one per board port) of at most 11 men.
+mod ranges {
+    /// Field length, goal line to goal line (m).
+    pub const FIELD_LENGTH_M: (f64, f64) = (0.3, 5.0);
+    /// Field width (m).
+    pub const FIELD_WIDTH_M: (f64, f64) = (0.2, 3.0);
+    /// Wall height (m).
+    pub const WALL_HEIGHT_M: (f64, f64) = (0.01, 1.0);
+    /// Rod height above the field (m).
+    pub const ROD_HEIGHT_M: (f64, f64) = (0.01, 1.0);
+    /// Goal mouth width (m); also at most the field width.
+    pub const GOAL_WIDTH_M: (f64, f64) = (0.01, 3.0);
+    /// Goal mouth height (m).
+    pub const GOAL_HEIGHT_M: (f64, f64) = (0.01, 1.0);
+    /// Goal box depth (m).
+    pub const GOAL_DEPTH_M: (f64, f64) = (0.01, 1.0);
+    /// Ball diameter (m): a 35 mm ball, from 5 mm to 200 mm.
+    pub const BALL_DIAMETER_M: (f64, f64) = (0.005, 0.2);
+    /// Ball mass (kg): 24–29 g real, from 1 g to 1 kg.
+    pub const BALL_MASS_KG: (f64, f64) = (1e-3, 1.0);
+    /// Men on one rod: 1 (goalkeeper) to 5 real, at most 11.
+    pub const MEN: (usize, usize) = (1, 11);
+    /// A man's mass (kg): 70–140 g real (the presets' 40–60 g included), from 5 g to 2 kg.
+    pub const MAN_MASS_KG: (f64, f64) = (5e-3, 2.0);
+    /// A man's widths and depth (m).
+    pub const MAN_WIDTH_M: (f64, f64) = (2e-3, 0.2);
+    /// A man's head height above the rod, and his foot reach below it (m).
+    pub const MAN_HEIGHT_M: (f64, f64) = (2e-3, 0.5);
+}
+
+/// The ranges of a team's character parameters.
+fn character_ranges(side: Side, p: &super::CharacterParams) -> Result<(), TableError> {
+    let name = |field: &str| format!("{side:?} params.{field}");
+    ranged(name("body_width_m"), p.body_width_m, ranges::MAN_WIDTH_M)?;
+    ranged(name("body_depth_m"), p.body_depth_m, ranges::MAN_WIDTH_M)?;
+    ranged(name("foot_width_m"), p.foot_width_m, ranges::MAN_WIDTH_M)?;
+    ranged(name("head_height_m"), p.head_height_m, ranges::MAN_HEIGHT_M)?;
+    ranged(name("foot_reach_m"), p.foot_reach_m, ranges::MAN_HEIGHT_M)?;
+    ranged(name("mass_kg"), p.mass_kg, ranges::MAN_MASS_KG)
+}
+
 impl Table {
     /// Checks the table: positive finite sizes, the goal fits the end wall, the men fit
     /// the width over their travel without overlapping, rods inside the field in order
@@ -125,10 +218,14 @@ impl Table {
     /// without touching the field.
     pub fn validate(&self) -> Result<(), TableError> {
         let f = &self.field;
-        positive("field.length_m", f.length_m)?;
-        positive("field.width_m", f.width_m)?;
-        positive("field.wall_height_m", f.wall_height_m)?;
-        positive("field.rod_height_m", f.rod_height_m)?;
+        ranged("field.length_m", f.length_m, ranges::FIELD_LENGTH_M)?;
+        ranged("field.width_m", f.width_m, ranges::FIELD_WIDTH_M)?;
+        ranged(
+            "field.wall_height_m",
+            f.wall_height_m,
+            ranges::WALL_HEIGHT_M,
+        )?;
+        ranged("field.rod_height_m", f.rod_height_m, ranges::ROD_HEIGHT_M)?;
         in_range(
             "field.corner_ramp_m",
             f.corner_ramp_m,
@@ -144,9 +241,9 @@ impl Table {
             "within 0…the wall height",
         )?;
         let g = &self.goal;
-        positive("goal.width_m", g.width_m)?;
-        positive("goal.height_m", g.height_m)?;
-        positive("goal.depth_m", g.depth_m)?;
+        ranged("goal.width_m", g.width_m, ranges::GOAL_WIDTH_M)?;
+        ranged("goal.height_m", g.height_m, ranges::GOAL_HEIGHT_M)?;
+        ranged("goal.depth_m", g.depth_m, ranges::GOAL_DEPTH_M)?;
         if g.width_m + 2.0 * f.corner_ramp_m > f.width_m {
             return Err(TableError::Inconsistent(format!(
                 "goal ({} m) and corner ramps ({} m each) are wider than the end wall ({} m)",
@@ -154,8 +251,8 @@ impl Table {
             )));
         }
         let b = &self.ball;
-        positive("ball.diameter_m", b.diameter_m)?;
-        positive("ball.mass_kg", b.mass_kg)?;
+        ranged("ball.diameter_m", b.diameter_m, ranges::BALL_DIAMETER_M)?;
+        ranged("ball.mass_kg", b.mass_kg, ranges::BALL_MASS_KG)?;
         in_range("ball.restitution", b.restitution, 0.0, 1.0, "within 0…1")?;
         in_range("ball.friction", b.friction, 0.0, 10.0, "within 0…10")?;
         in_range(
@@ -180,6 +277,7 @@ impl Table {
                 )));
             }
             let p = team.character_params();
+            character_ranges(side, &p)?;
             p.validate()
                 .map_err(|reason| TableError::Reach { side, reason })?;
             if p.foot_reach_m >= f.rod_height_m {
@@ -205,6 +303,12 @@ impl Table {
                 return Err(TableError::Inconsistent(format!("{side:?} has no rods")));
             }
         }
+        if self.rods.len() > PADDLES {
+            return Err(TableError::Inconsistent(format!(
+                "{} rods: at most {PADDLES}, one per board port",
+                self.rods.len()
+            )));
+        }
         let mut ports = [false; PADDLES];
         let mut previous_x = -0.5 * f.length_m;
         for (i, rod) in self.rods.iter().enumerate() {
@@ -223,11 +327,13 @@ impl Table {
                 });
             }
             ports[rod.port] = true;
-            if rod.men == 0 {
-                return Err(TableError::BadValue {
-                    what: format!("rod {i} men"),
-                    expected: "at least 1",
-                    value: 0.0,
+            let (lo, hi) = ranges::MEN;
+            if !(lo..=hi).contains(&rod.men) {
+                return Err(TableError::Men {
+                    rod: i,
+                    men: rod.men,
+                    lo,
+                    hi,
                 });
             }
             in_range(
