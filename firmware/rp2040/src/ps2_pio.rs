@@ -148,6 +148,10 @@ pub enum Ps2Event {
     Frame(Ps2Frame),
     /// The command queued with [`Ps2Port::send`] is done.
     Sent(Result<(), SendError>),
+    /// The RX FIFO was full when a frame completed (`FDEBUG.RXSTALL`): the program
+    /// stalled on its push and missed clock edges, so the state machine was
+    /// restarted; the frames still queued were dropped with it.
+    RxStall,
 }
 
 /// A PS/2 host port, independent of which PIO block and state machine runs it.
@@ -173,6 +177,12 @@ pub struct PioPs2Port<'d, PIO: Instance, const SM: usize> {
     transfer_offset: u8,
     /// When the command in flight times out.
     send_deadline: Option<u64>,
+    /// A restart after an RX stall abandoned the command in flight: its failure is
+    /// reported next.
+    abandoned: bool,
+    /// After an RX stall: how many words the FIFO held when it was seen (complete
+    /// frames from before the stall), still to deliver before the restart.
+    stalled_words: Option<u8>,
 }
 
 impl<'d, PIO: Instance, const SM: usize> PioPs2Port<'d, PIO, SM> {
@@ -223,6 +233,8 @@ impl<'d, PIO: Instance, const SM: usize> PioPs2Port<'d, PIO, SM> {
             idle_addr: (origin + program.idle) % 32,
             transfer_offset: program.tx_bits,
             send_deadline: None,
+            abandoned: false,
+            stalled_words: None,
         };
         port.restart();
         port
@@ -248,21 +260,8 @@ impl<'d, PIO: Instance, const SM: usize> PioPs2Port<'d, PIO, SM> {
         self.sm.set_enable(true);
     }
 
-    /// Why the command in flight failed, judged from where the program waits.
-    fn stuck_reason(&self) -> SendError {
-        let offset = self.sm.get_addr().wrapping_sub(self.origin) % 32;
-        // The transfer part runs from `tx_bits` to the end of the program; before it
-        // the device has not produced a single clock.
-        if offset >= self.transfer_offset {
-            SendError::Timeout
-        } else {
-            SendError::NoClock
-        }
-    }
-}
-
-impl<PIO: Instance, const SM: usize> Ps2Port for PioPs2Port<'_, PIO, SM> {
-    fn next_event(&mut self, now_us: u64) -> Option<Ps2Event> {
+    /// The next frame or command completion from the RX FIFO, if any.
+    fn pull_event(&mut self) -> Option<Ps2Event> {
         while let Some(word) = self.sm.rx().try_pull() {
             if word & COMPLETION_MARK == 0 {
                 let raw = (word >> (32 - FRAME_BITS)) as u16;
@@ -278,6 +277,49 @@ impl<PIO: Instance, const SM: usize> Ps2Port for PioPs2Port<'_, PIO, SM> {
                 };
                 return Some(Ps2Event::Sent(result));
             }
+        }
+        None
+    }
+
+    /// Why the command in flight failed, judged from where the program waits.
+    fn stuck_reason(&self) -> SendError {
+        let offset = self.sm.get_addr().wrapping_sub(self.origin) % 32;
+        // The transfer part runs from `tx_bits` to the end of the program; before it
+        // the device has not produced a single clock.
+        if offset >= self.transfer_offset {
+            SendError::Timeout
+        } else {
+            SendError::NoClock
+        }
+    }
+}
+
+impl<PIO: Instance, const SM: usize> Ps2Port for PioPs2Port<'_, PIO, SM> {
+    fn next_event(&mut self, now_us: u64) -> Option<Ps2Event> {
+        if self.stalled_words.is_none() && self.sm.rx().stalled() {
+            // The words queued before the stall are whole frames: deliver them first.
+            self.stalled_words = Some(self.sm.rx().level());
+        }
+        if let Some(left) = self.stalled_words {
+            if left > 0 {
+                self.stalled_words = Some(left - 1);
+                if let Some(event) = self.pull_event() {
+                    return Some(event);
+                }
+            }
+            // Bits went by while the program waited on its push: what it receives
+            // now is not trustworthy. Start over on the next start bit.
+            self.stalled_words = None;
+            self.abandoned = self.send_deadline.take().is_some();
+            self.restart();
+            return Some(Ps2Event::RxStall);
+        }
+        if self.abandoned {
+            self.abandoned = false;
+            return Some(Ps2Event::Sent(Err(SendError::Timeout)));
+        }
+        if let Some(event) = self.pull_event() {
+            return Some(event);
         }
         match self.send_deadline {
             Some(deadline) if now_us >= deadline => {

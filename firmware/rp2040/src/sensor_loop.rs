@@ -58,6 +58,10 @@ fn pass(sensors: &mut Sensors, now_us: u64) {
                     }
                     board.on_command_sent(index, now_us, result);
                 }
+                Ps2Event::RxStall => {
+                    defmt::warn!("port {}: RX FIFO stalled; receiver restarted", index);
+                    board.on_rx_stall(index, now_us);
+                }
             }
         }
         if let Some(byte) = board.poll(index, now_us) {

@@ -75,6 +75,14 @@ impl SensorBoard {
         }
     }
 
+    /// The receiver of `port` overflowed and was restarted at `now_us` (see
+    /// [`MouseDriver::on_rx_stall`]).
+    pub fn on_rx_stall(&mut self, port: usize, now_us: u64) {
+        if let Some(driver) = self.drivers.get_mut(port) {
+            driver.on_rx_stall(now_us);
+        }
+    }
+
     /// Call for every port at least every millisecond: runs the port's timeouts and
     /// returns the command byte to send to its mouse, if any (then report the outcome
     /// with [`on_command_sent`](Self::on_command_sent)).

@@ -415,6 +415,19 @@ fn garbled_first_byte_asks_for_the_packet_again() {
 }
 
 #[test]
+fn a_receiver_overflow_is_counted_and_the_packet_asked_for_again() {
+    let mut h = streaming();
+    h.recv(0x08);
+    h.driver.on_rx_stall(h.now);
+    assert_eq!(h.driver.stats().fifo_stalls, 1);
+    assert_eq!(h.driver.stats().framing_errors, 0);
+    assert!(h.driver.take_events().framing_error, "bytes went missing");
+    h.expect_send(0xFE);
+    assert_eq!(h.recv_all(&[0x08, 0x07, 0x09]).len(), 1);
+    assert!(h.driver.is_present());
+}
+
+#[test]
 fn a_packet_garbled_every_time_is_dropped_and_counted() {
     let mut h = streaming();
     h.recv(0x08);

@@ -99,6 +99,7 @@ export class Board {
       sm.fitlCount = 0;
     }
     this.nextPioNanos = 0;
+    this.cpuHeldUntilNs = 0;
 
     // Wires with pull-ups, keyed by GPIO.
     this.wires = new Map();
@@ -265,9 +266,12 @@ export class Board {
       const stopAt = pioDue ? this.nextPioNanos : targetNs;
       const cycleNanos = this.cycleNanos;
       while (clock.nanosCounter < stopAt) {
-        if (core.waiting) {
+        if (core.waiting || clock.nanosCounter < this.cpuHeldUntilNs) {
           const alarm = clock.nextAlarm;
-          const until = alarm && alarm.nanos < stopAt ? alarm.nanos : stopAt;
+          let until = alarm && alarm.nanos < stopAt ? alarm.nanos : stopAt;
+          if (!core.waiting) {
+            until = Math.min(until, this.cpuHeldUntilNs);
+          }
           clock.tick(Math.max(0, until - clock.nanosCounter));
         } else {
           clock.tick(core.executeInstruction() * cycleNanos);
@@ -277,6 +281,15 @@ export class Board {
         this.pioTick();
       }
     }
+  }
+
+  /**
+   * Holds the CPU for `us` microseconds from now (a fault: as if a long interrupt
+   * or a flash operation kept the core busy): no instruction runs, while the
+   * clock, the timers, the PIO, the mice and the host go on.
+   */
+  holdCpu(us) {
+    this.cpuHeldUntilNs = this.clock.nanosCounter + us * 1000;
   }
 
   /** Runs for `us` microseconds of emulated time. */

@@ -61,6 +61,8 @@ export class Ps2Mouse {
     this.random = seed >>> 0 || 1;
     /** Frames sent with a flipped parity bit. */
     this.parityErrorsSent = 0;
+    /** Frames still to send at the burst clock (`sendBurst`). */
+    this.burst = { bytes: 0, halfNs: this.half };
     /** Busy in its self-test until then: request-to-send goes unanswered. */
     this.busyUntilNs = 0;
     board.attachWire(data);
@@ -131,6 +133,17 @@ export class Ps2Mouse {
     this.busyUntilNs = this.board.timeNs + this.selfTestNs;
     this.delayed = [{ atNs: this.busyUntilNs, bytes: loseSelfTestByte ? [0x00] : [0xaa, 0x00] }];
     this.start();
+  }
+
+  /**
+   * Sends `bytes` back to back at a clock far beyond PS/2's (`halfPeriodUs` per
+   * phase, a few µs): faster than the firmware drains its 4-word RX FIFO, so the
+   * receiver overflows. Not something a mouse does; a way to make the FIFO stall.
+   */
+  sendBurst(bytes, halfPeriodUs) {
+    this.burst = { bytes: bytes.length, halfNs: halfPeriodUs * US };
+    this.outQueue.push(...bytes);
+    this.wake();
   }
 
   /** xorshift32: the next pseudo-random number in [0, 1). */
@@ -313,22 +326,27 @@ export class Ps2Mouse {
     }
     bits.push(parity, 1);
     const board = this.board;
+    // A burst (out of spec) runs at its own clock.
+    const half = this.burst.bytes > 0 ? this.burst.halfNs : this.half;
     for (const bit of bits) {
       board.setDeviceLow(this.dataPin, bit === 0);
-      yield this.half / 2;
+      yield half / 2;
       if (!this.clockHigh()) {
         board.setDeviceLow(this.dataPin, false);
         return false;
       }
       board.setDeviceLow(this.clockPin, true);
-      yield this.half;
+      yield half;
       board.setDeviceLow(this.clockPin, false);
-      yield this.half / 2;
+      yield half / 2;
     }
     board.setDeviceLow(this.dataPin, false);
     this.lastFrameEndNs = board.timeNs;
     // Gap before the next frame.
-    yield this.half;
+    yield half;
+    if (this.burst.bytes > 0) {
+      this.burst.bytes--;
+    }
     return true;
   }
 

@@ -207,6 +207,7 @@ impl MouseDriver {
                 retries: 0,
                 resends: 0,
                 dropped: 0,
+                fifo_stalls: 0,
                 reconfigurations: 0,
             },
         }
@@ -239,6 +240,16 @@ impl MouseDriver {
                 None
             }
         }
+    }
+
+    /// The port's receiver overflowed (the RX FIFO was full, so bits were lost and
+    /// the receiver was restarted) at `now_us`: counted, flagged as a framing error
+    /// (bytes went missing), and while streaming the packet under way is asked for
+    /// again as after a garbled frame.
+    pub fn on_rx_stall(&mut self, now_us: u64) {
+        self.stats.fifo_stalls = self.stats.fifo_stalls.wrapping_add(1);
+        self.events.framing_error = true;
+        self.after_lost_byte(now_us);
     }
 
     /// Call at least every millisecond: runs the timeouts, and returns the next
@@ -706,6 +717,11 @@ impl MouseDriver {
             self.events.parity_error = true;
             self.stats.parity_errors = self.stats.parity_errors.wrapping_add(1);
         }
+        self.after_lost_byte(now_us);
+    }
+
+    /// A byte arrived garbled, or went missing: what it means depends on the state.
+    fn after_lost_byte(&mut self, now_us: u64) {
         self.bat_pending = false;
         match self.state {
             DriverState::Streaming => {

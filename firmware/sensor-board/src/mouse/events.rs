@@ -50,6 +50,9 @@ pub struct DriverStats {
     pub resends: u32,
     /// Packets lost for good: garbled after every resend, or cut short.
     pub dropped: u32,
+    /// Receiver overflows: the RX FIFO was full, bits were lost and the receiver was
+    /// restarted (reported by the platform, [`crate::MouseDriver::on_rx_stall`]).
+    pub fifo_stalls: u32,
     /// Times a status request showed settings other than the configured ones (the
     /// mouse restarted unseen) and the mouse was configured again.
     pub reconfigurations: u32,
