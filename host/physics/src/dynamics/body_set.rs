@@ -50,6 +50,9 @@ pub struct BodySet {
     pub inv_inertia_world: Vec<M3>,
     /// Whether the body is simulated this step (dynamic and not sleeping).
     pub awake: Vec<bool>,
+    /// Whether contacts move the body: dynamic bodies, and the proxies of tree links (whose
+    /// contacts act on their tree).
+    pub responds: Vec<bool>,
     /// Time the body has been slow enough to sleep (s).
     pub sleep_time: Vec<f64>,
     /// World bounding box, grown by the contact margin (m).
@@ -111,6 +114,7 @@ impl BodySet {
             .push(V3::new(inv(inertia.x), inv(inertia.y), inv(inertia.z)));
         self.inv_inertia_world.push(M3::zeros());
         self.awake.push(dynamic);
+        self.responds.push(dynamic);
         self.sleep_time.push(0.0);
         self.dp.push(V3::zeros());
         self.dtheta.push(V3::zeros());
@@ -127,7 +131,7 @@ impl BodySet {
             pos: &self.pos,
             aabb: &self.aabb,
             awake: &self.awake,
-            inv_mass: &self.inv_mass,
+            responds: &self.responds,
         }
     }
 

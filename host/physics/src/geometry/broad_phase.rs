@@ -84,7 +84,7 @@ impl BroadPhase {
     }
 
     /// Recomputes `pairs` from the bodies' `aabb`. Pairs of two bodies that do not respond to
-    /// contacts (`inv_mass` 0), of two bodies that are both not awake, and pairs in `excluded`
+    /// contacts (`responds`), of two bodies that are both not awake, and pairs in `excluded`
     /// (sorted keys) are skipped. Returns the number of box–box overlap tests made.
     pub fn update(&mut self, bodies: &CollisionBodies<'_>, excluded: &[u64]) -> usize {
         self.entries.clear();
@@ -170,7 +170,7 @@ impl BroadPhase {
 
     #[inline]
     fn wanted(bodies: &CollisionBodies<'_>, a: usize, b: usize) -> bool {
-        (bodies.inv_mass[a] > 0.0 || bodies.inv_mass[b] > 0.0)
+        (bodies.responds[a] || bodies.responds[b])
             && (bodies.awake[a] || bodies.awake[b])
     }
 

@@ -16,8 +16,9 @@ pub struct CollisionBodies<'a> {
     pub aabb: &'a [Aabb],
     /// Whether the body is simulated this step (dynamic and not sleeping).
     pub awake: &'a [bool],
-    /// Inverse mass (1/kg): 0 for bodies that contacts do not move (fixed, kinematic).
-    pub inv_mass: &'a [f64],
+    /// Whether contacts move the body (dynamic bodies and tree links); pairs of two bodies
+    /// that contacts do not move are never reported.
+    pub responds: &'a [bool],
 }
 
 impl CollisionBodies<'_> {

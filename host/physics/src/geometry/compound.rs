@@ -144,6 +144,33 @@ impl Compound {
         ))
     }
 
+    /// A compound of parts already posed in the body frame, for collision only: it has no
+    /// mass properties of its own (the shapes on a tree link, whose mass is the model's).
+    pub fn from_parts(parts: Vec<Part>) -> Result<Compound, CompoundError> {
+        if parts.is_empty() {
+            return Err(CompoundError::Empty);
+        }
+        if let Some(k) = parts
+            .iter()
+            .position(|p| matches!(p.shape, Shape::HalfSpace { .. } | Shape::Compound(_)))
+        {
+            return Err(CompoundError::UnsupportedPart(k));
+        }
+        Ok(Compound {
+            unit_inertia: V3::zeros(),
+            volume: parts.iter().map(|p| p.shape.volume()).sum(),
+            bounding_radius: parts
+                .iter()
+                .map(|p| p.pos.norm() + p.shape.bounding_radius())
+                .fold(0.0, f64::max),
+            thinness: parts
+                .iter()
+                .map(|p| p.shape.thinness())
+                .fold(f64::INFINITY, f64::min),
+            parts,
+        })
+    }
+
     /// The parts, posed in the body frame.
     pub fn parts(&self) -> &[Part] {
         &self.parts

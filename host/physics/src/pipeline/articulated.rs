@@ -17,6 +17,7 @@ use super::integrator::dexp_inv_right;
 use super::IntegratorKind;
 use crate::algebra::{exp_so3, log_so3, se3, Vec3, SE3};
 use crate::dynamics::{aba, DynamicsError, Workspace};
+use crate::geometry::{Material, Shape, M3, V3};
 use crate::model::ArticulatedTree;
 
 /// Fixed-point iterations of the tree's implicit midpoint step: stop when `|Δq̇|∞` is below
@@ -38,6 +39,19 @@ enum Chart {
     Fixed,
 }
 
+/// A collision shape fixed on a link of a tree.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct LinkShape {
+    /// The link (body index in the tree).
+    pub(crate) link: usize,
+    /// The shape, centred on its own frame.
+    pub(crate) shape: Shape,
+    /// Pose of the shape in the link frame.
+    pub(crate) pose: SE3<f64>,
+    /// Surface properties.
+    pub(crate) material: Material,
+}
+
 /// One articulated tree with its state.
 pub struct ArticulatedSystem {
     /// The model.
@@ -51,6 +65,8 @@ pub struct ArticulatedSystem {
     pub tau: Vec<f64>,
     /// The integrator (set by the world; see the module docs).
     pub integrator: IntegratorKind,
+    /// Collision shapes fixed on links (link frame): such a tree touches the world's bodies.
+    pub(crate) link_shapes: Vec<LinkShape>,
     qdd: Vec<f64>,
     joints: Vec<(Chart, usize, usize)>,
     // Scratch of the multi-stage integrators (no allocation per step).
@@ -93,6 +109,7 @@ impl ArticulatedSystem {
             qd,
             tau: vec![0.0; nv],
             integrator: IntegratorKind::default(),
+            link_shapes: Vec::new(),
             qdd: vec![0.0; nv],
             joints,
             q0: vec![0.0; nq],
@@ -354,5 +371,128 @@ impl ArticulatedSystem {
             }
         }
         e
+    }
+}
+
+/// Contact support: shapes on links, link poses and velocities, point Jacobians and the
+/// response `M⁻¹ Jᵀ` of the tree to a unit impulse.
+impl ArticulatedSystem {
+    /// Fixes a collision shape on link `link` at `pose` (link frame), with `material`. Several
+    /// shapes on one link make it a compound. A tree with shapes touches the world's bodies
+    /// (with the `contacts` effect) and then steps by semi-implicit Euler inside the contact
+    /// solve, whatever integrator the world selects.
+    pub fn with_link_shape(
+        mut self,
+        link: usize,
+        shape: Shape,
+        pose: SE3<f64>,
+        material: Material,
+    ) -> Self {
+        self.link_shapes.push(LinkShape {
+            link,
+            shape,
+            pose,
+            material,
+        });
+        self
+    }
+
+    /// Whether any link carries a collision shape.
+    pub fn has_shapes(&self) -> bool {
+        !self.link_shapes.is_empty()
+    }
+
+    /// World pose of every link at the current `q`.
+    pub fn link_poses(&self) -> Vec<SE3<f64>> {
+        self.tree.body_poses(&self.q)
+    }
+
+    /// World angular velocity and world velocity of each link frame's origin (rad/s, m/s) at
+    /// the current `q`, `q̇`, for the given link `poses`.
+    pub(crate) fn link_velocities(&self, poses: &[SE3<f64>]) -> Vec<(V3, V3)> {
+        let mut out: Vec<(V3, V3)> = Vec::with_capacity(poses.len());
+        let mut s = [se3::zeros(); 6];
+        for (k, b) in self.tree.bodies().iter().enumerate() {
+            let (mut w, mut v) = match b.parent {
+                Some(p) => {
+                    let (wp, vp) = out[p];
+                    (wp, vp + wp.cross(&(poses[k].p - poses[p].p)))
+                }
+                None => (V3::zeros(), V3::zeros()),
+            };
+            let qs = &self.q[b.q_offset..b.q_offset + b.nq()];
+            b.joint.motion_subspace(qs, &mut s[..b.nv()]);
+            let r = &poses[k].r;
+            for (c, col) in s[..b.nv()].iter().enumerate() {
+                let qd = self.qd[b.v_offset + c];
+                w += r * col.w * qd;
+                v += r * col.v * qd;
+            }
+            out.push((w, v));
+        }
+        out
+    }
+
+    /// The row `J` (length `nv`) with `J q̇ = d · (velocity of the point of link `link` at
+    /// world point `p`)`, for link `poses` at the current `q`.
+    pub(crate) fn point_jacobian(
+        &self,
+        poses: &[SE3<f64>],
+        link: usize,
+        p: &V3,
+        d: &V3,
+        out: &mut [f64],
+    ) {
+        out.iter_mut().for_each(|x| *x = 0.0);
+        let mut s = [se3::zeros(); 6];
+        let bodies = self.tree.bodies();
+        let mut k = Some(link);
+        while let Some(a) = k {
+            let b = &bodies[a];
+            let qs = &self.q[b.q_offset..b.q_offset + b.nq()];
+            b.joint.motion_subspace(qs, &mut s[..b.nv()]);
+            let (r, t): (&M3, &V3) = (&poses[a].r, &poses[a].p);
+            let arm = p - t;
+            let arm_x_d = arm.cross(d);
+            for (c, col) in s[..b.nv()].iter().enumerate() {
+                out[b.v_offset + c] = d.dot(&(r * col.v)) + arm_x_d.dot(&(r * col.w));
+            }
+            k = b.parent;
+        }
+    }
+
+    /// `out = M(q)⁻¹ tau`: the change of `q̇` for a generalised impulse `tau` (ABA at zero
+    /// velocity and zero gravity, O(n)).
+    pub(crate) fn apply_inverse_mass(
+        &mut self,
+        tau: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        let g = self.tree.gravity();
+        self.tree.set_gravity(Vec3::zeros());
+        let zero = std::mem::take(&mut self.stage_qd);
+        let mut zero = zero;
+        zero.iter_mut().for_each(|x| *x = 0.0);
+        let r = aba(&self.tree, &mut self.ws, &self.q, &zero, tau, None, out);
+        self.stage_qd = zero;
+        self.tree.set_gravity(g);
+        r
+    }
+
+    /// The velocity stage of semi-implicit Euler inside the contact solve: `q̇ += h q̈`.
+    pub(crate) fn velocity_stage(&mut self, h: f64) -> Result<(), DynamicsError> {
+        let (q, qd) = (std::mem::take(&mut self.q), std::mem::take(&mut self.qd));
+        let r = self.forward_dynamics(&q, &qd);
+        (self.q, self.qd) = (q, qd);
+        r?;
+        for (v, a) in self.qd.iter_mut().zip(&self.qdd) {
+            *v += h * a;
+        }
+        Ok(())
+    }
+
+    /// The position stage: `q ← q ⊞ h q̇`.
+    pub(crate) fn position_stage(&mut self, h: f64) {
+        self.advance_positions(h);
     }
 }

@@ -13,6 +13,7 @@ pub mod counters;
 pub mod effects;
 pub mod integrator;
 pub mod islands;
+mod tree_contacts;
 pub mod world;
 
 pub use counters::{Stage, StepCounters};

@@ -13,6 +13,11 @@ use crate::geometry::{BroadPhase, NarrowPhase, Shape, V3};
 #[path = "step_guard.rs"]
 mod step_guard;
 
+#[path = "link_proxies.rs"]
+mod link_proxies;
+
+use super::tree_contacts::{Proxy, TreeContacts, TreeDisplacements};
+
 /// Solver and collision settings (SI units).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolverSettings {
@@ -112,6 +117,14 @@ pub struct World {
     batched: bool,
     /// Checks before and after each step, and the snapshot a failed step is rolled back to.
     guard: step_guard::StepGuard,
+    /// For each body, the tree link it stands for (a proxy), if any.
+    proxies: Vec<Option<Proxy>>,
+    /// Contacts with a tree link on a side, this step.
+    tree_contacts: TreeContacts,
+    /// Per tree, `Σ h q̇` over the step's substeps so far.
+    tree_dq: TreeDisplacements,
+    /// Per tree, the link poses at the start of the step.
+    link_poses: Vec<Vec<crate::algebra::SE3<f64>>>,
 }
 
 impl World {
@@ -145,6 +158,10 @@ impl World {
             batches: ContactBatches::default(),
             batched: false,
             guard: step_guard::StepGuard::default(),
+            proxies: Vec::new(),
+            tree_contacts: TreeContacts::default(),
+            tree_dq: Vec::new(),
+            link_poses: Vec::new(),
         }
     }
 
@@ -162,10 +179,15 @@ impl World {
         }
     }
 
-    /// Adds an articulated tree; it takes the world's integrator.
+    /// Adds an articulated tree; it takes the world's integrator. Links with shapes
+    /// ([`ArticulatedSystem::with_link_shape`]) get a proxy body each (a kinematic body named
+    /// after the link, posed from the tree), through which they touch the other bodies.
     pub fn add_articulated(&mut self, mut system: ArticulatedSystem) {
         system.integrator = self.integrator.kind;
+        self.tree_dq.push(vec![0.0; system.qd.len()]);
+        self.link_poses.push(system.link_poses());
         self.articulated.push(system);
+        self.add_link_proxies(self.articulated.len() - 1);
     }
 
     /// Adds a joint (contacts between its two bodies are disabled).
@@ -249,10 +271,12 @@ impl World {
             self.time += dt;
             return Ok(());
         }
+        self.sync_link_proxies();
         self.bodies.update_world_inertia();
 
         // Collision.
         self.constraints.clear();
+        self.tree_contacts.clear();
         if let (Some(broad), Some(narrow)) = (self.broad.as_mut(), self.narrow.as_mut()) {
             let ccd = eff.has(Effect::ContinuousCollision);
             let spec = self.settings.speculative_distance;
@@ -302,7 +326,20 @@ impl World {
             };
             for (mi, m) in narrow.manifolds.iter().enumerate() {
                 let (a, b) = (m.a as usize, m.b as usize);
-                if self.bodies.awake[a] || self.bodies.awake[b] {
+                let proxy = |i: usize| self.proxies.get(i).is_some_and(Option::is_some);
+                if proxy(a) || proxy(b) {
+                    if eff.has(Effect::Articulated) {
+                        self.tree_contacts.prepare(
+                            &self.bodies,
+                            &self.proxies,
+                            &mut self.articulated,
+                            &self.link_poses,
+                            m,
+                            mi,
+                            &settings,
+                        )?;
+                    }
+                } else if self.bodies.awake[a] || self.bodies.awake[b] {
                     self.constraints.push(ContactConstraint::prepare(
                         &self.bodies,
                         m,
@@ -328,6 +365,13 @@ impl World {
         for i in 0..self.bodies.len() {
             self.bodies.dp[i] = V3::zeros();
             self.bodies.dtheta[i] = V3::zeros();
+        }
+        for dq in &mut self.tree_dq {
+            dq.iter_mut().for_each(|x| *x = 0.0);
+        }
+        let coupled = self.coupled_trees();
+        if !self.tree_contacts.contacts.is_empty() {
+            self.counters.mark(Stage::ContactSolve);
         }
 
         let hz = self
@@ -384,7 +428,15 @@ impl World {
         for sub in 0..n_sub {
             self.integrator
                 .integrate_velocities(&mut self.bodies, h, &forces);
+            if coupled {
+                for a in self.articulated.iter_mut().filter(|a| a.has_shapes()) {
+                    a.velocity_stage(h)?;
+                    self.counters.articulated_solves += 1;
+                }
+            }
             self.warm_start_contacts();
+            self.tree_contacts
+                .warm_start(&mut self.bodies, &mut self.articulated);
             if joints_on {
                 for j in &self.joints {
                     j.warm_start(&mut self.bodies);
@@ -405,6 +457,16 @@ impl World {
                 solve,
             );
             self.integrator.integrate_positions(&mut self.bodies, h);
+            if coupled {
+                for (a, dq) in self.articulated.iter_mut().zip(&mut self.tree_dq) {
+                    if a.has_shapes() {
+                        a.position_stage(h);
+                        for (x, v) in dq.iter_mut().zip(&a.qd) {
+                            *x += h * v;
+                        }
+                    }
+                }
+            }
             self.counters.solver_iterations += 1;
             if self.settings.relax_each_substep || sub + 1 == n_sub {
                 let relax = SolvePass {
@@ -442,7 +504,18 @@ impl World {
                 c.store(&mut narrow.manifolds[c.manifold]);
             }
         }
+        if !self.tree_contacts.contacts.is_empty() {
+            if eff.has(Effect::Restitution) {
+                let th = self.settings.restitution_threshold;
+                self.tree_contacts
+                    .restitution(&mut self.bodies, &mut self.articulated, th);
+            }
+            if let Some(narrow) = self.narrow.as_mut() {
+                self.tree_contacts.store(&mut narrow.manifolds);
+            }
+        }
         self.step_articulated(h)?;
+        self.sync_link_proxies();
         if let Some(islands) = self.islands.as_mut() {
             self.counters.mark(Stage::Islands);
             let manifolds = self.narrow.as_ref().map_or(&[][..], |n| &n.manifolds[..]);
@@ -453,11 +526,16 @@ impl World {
         Ok(())
     }
 
-    /// The articulated trees, one ABA per tree per substep of `h` (with `articulated`).
+    /// The articulated trees that do not touch the world (no shapes, or no `contacts`), one
+    /// ABA per tree per substep of `h` with the selected integrator (with `articulated`).
     fn step_articulated(&mut self, h: f64) -> Result<(), DynamicsError> {
         if self.effects.has(Effect::Articulated) && !self.articulated.is_empty() {
             self.counters.mark(Stage::Articulated);
+            let coupled = self.coupled_trees();
             for a in &mut self.articulated {
+                if coupled && a.has_shapes() {
+                    continue; // stepped inside the contact solve
+                }
                 for _ in 0..self.settings.substeps.max(1) {
                     a.step(h)?;
                     self.counters.articulated_solves += 1;
@@ -516,6 +594,18 @@ impl World {
             for c in &mut self.constraints {
                 c.solve(&mut self.bodies, softness(c), inv_h, max_push, pass);
             }
+        }
+        if !self.tree_contacts.contacts.is_empty() {
+            self.tree_contacts.solve(
+                &mut self.bodies,
+                &mut self.articulated,
+                &self.tree_dq,
+                soft,
+                soft_static,
+                inv_h,
+                max_push,
+                pass,
+            );
         }
     }
 
