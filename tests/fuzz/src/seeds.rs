@@ -251,6 +251,15 @@ fn scenes() -> Vec<Seed> {
     two.bodies.truncate(2);
     two.steps = Some(10);
     out.push(seed("valid-two-bodies.json", two.to_json()));
+    // The crate's example scenes: every shape kind, and a compound body.
+    out.push(seed(
+        "valid-example.json",
+        include_str!("../../../host/physics/scenes/example.json"),
+    ));
+    out.push(seed(
+        "valid-spinning-top.json",
+        include_str!("../../../host/physics/scenes/spinning-top.json"),
+    ));
     out.push(seed("edge-empty-object.json", "{}"));
     out.push(seed("edge-no-bodies.json", r#"{"effects":["gravity"]}"#));
     out
