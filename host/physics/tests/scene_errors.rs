@@ -37,7 +37,7 @@ fn negative_mass() {
         &format!("{BOX}, {BOX}, {BOX}, {b}"),
         "",
     ));
-    has(&ps, "bodies[3].mass: must be positive, got -1");
+    has(&ps, "bodies[3].mass: must be within 1e-6 … 1e6 kg, got -1");
 }
 
 #[test]
@@ -56,13 +56,16 @@ fn bad_shape_dimensions() {
     let ps = problems(&scene("", b, ""));
     has(
         &ps,
-        "bodies[0].shape.half_extents[1]: must be positive, got 0",
+        "bodies[0].shape.half_extents[1]: must be within 1e-4 … 1e4 m, got 0",
     );
     has(
         &ps,
-        "bodies[0].shape.half_extents[2]: must be positive, got -2",
+        "bodies[0].shape.half_extents[2]: must be within 1e-4 … 1e4 m, got -2",
     );
-    has(&ps, "bodies[1].shape.radius: must be positive");
+    has(
+        &ps,
+        "bodies[1].shape.radius: must be within 1e-4 … 1e4 m, got -0.1",
+    );
 }
 
 #[test]
@@ -80,8 +83,14 @@ fn unknown_material_and_bad_material_values() {
                               {"name": "felt"}]"#;
     let ps = problems(&scene("", b, m));
     has(&ps, "bodies[0].material: unknown material 'ice'");
-    has(&ps, "materials[0].friction: must be ≥ 0, got -0.2");
-    has(&ps, "materials[0].restitution: must be in [0, 1], got 1.5");
+    has(
+        &ps,
+        "materials[0].friction: must be within 0 … 10, got -0.2",
+    );
+    has(
+        &ps,
+        "materials[0].restitution: must be within 0 … 1, got 1.5",
+    );
     has(&ps, "materials[0].rolling_resistance");
     has(
         &ps,
@@ -142,7 +151,7 @@ fn articulated_unknown_parent_and_mass() {
     );
     has(
         &ps,
-        "articulated[0].model.bodies[1].inertia.mass: must be positive, got -3",
+        "articulated[0].model.bodies[1].inertia.mass: must be within 1e-6 … 1e6 kg, got -3",
     );
 }
 
@@ -176,7 +185,7 @@ fn non_finite_values_in_a_built_scene() {
     let ps: Vec<String> = s.problems().iter().map(|p| p.to_string()).collect();
     has(&ps, "bodies[2].position[1]: must be finite, got NaN");
     has(&ps, "bodies[1].velocity[0]: must be finite, got inf");
-    has(&ps, "dt: must be positive, got 0");
+    has(&ps, "dt: must be within 1e-6 … 0.1 s, got 0");
     assert!(s.build().is_err());
 }
 
@@ -228,7 +237,9 @@ fn every_problem_is_reported_at_once() {
         .unwrap_err()
         .to_string();
     assert!(
-        msg.contains("problem(s)") && msg.contains("dt: must be positive"),
+        msg.contains("problems in the scene: ")
+            && !msg.contains('\n')
+            && msg.contains("dt: must be within 1e-6 … 0.1 s, got -1"),
         "{msg}"
     );
 }
