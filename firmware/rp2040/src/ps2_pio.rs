@@ -24,6 +24,7 @@
 //! time limit, so when no completion arrives in [`SEND_TIMEOUT_US`] the port reports
 //! the failure and restarts its state machine.
 
+use embassy_rp::pac;
 use embassy_rp::peripherals::{PIO0, PIO1};
 use embassy_rp::pio::program::{pio_asm, InstructionOperands, SetDestination};
 use embassy_rp::pio::{
@@ -32,7 +33,7 @@ use embassy_rp::pio::{
 };
 use embassy_rp::pio_programs::clock_divider::calculate_pio_clock_divider;
 use embassy_rp::{gpio, Peri};
-use sensor_board::{HostFrame, Ps2Frame, SendError, PORTS};
+use sensor_board::{HostFrame, LineFault, Ps2Frame, SendError, PORTS};
 
 use crate::pins::Ps2Pins;
 
@@ -160,6 +161,13 @@ pub trait Ps2Port {
     /// of back-to-back frames); `now_us` drives the send timeout.
     fn next_event(&mut self, now_us: u64) -> Option<Ps2Event>;
 
+    /// A line held low now although this side drives neither (call while no
+    /// command is in flight, so the state machine has both lines released).
+    fn line_fault(&self) -> Option<LineFault>;
+
+    /// Whether a command is in flight (request-to-send, the host driving a line).
+    fn sending(&self) -> bool;
+
     /// Sends a command; its outcome arrives as [`Ps2Event::Sent`]. A command still in
     /// flight is abandoned (its outcome never reported): the caller only sends anew
     /// once it has given up on the previous one.
@@ -175,6 +183,8 @@ pub struct PioPs2Port<'d, PIO: Instance, const SM: usize> {
     idle_addr: u8,
     /// Offset of the bit-transfer part of a command in the program.
     transfer_offset: u8,
+    /// GPIO of the data line; the clock is the next one.
+    data_pin: u8,
     /// When the command in flight times out.
     send_deadline: Option<u64>,
     /// A restart after an RX stall abandoned the command in flight: its failure is
@@ -227,11 +237,13 @@ impl<'d, PIO: Instance, const SM: usize> PioPs2Port<'d, PIO, SM> {
         sm.set_config(&cfg);
 
         let origin = program.program.origin;
+        let data_pin = data.pin();
         let mut port = Self {
             sm,
             origin,
             idle_addr: (origin + program.idle) % 32,
             transfer_offset: program.tx_bits,
+            data_pin,
             send_deadline: None,
             abandoned: false,
             stalled_words: None,
@@ -329,6 +341,23 @@ impl<PIO: Instance, const SM: usize> Ps2Port for PioPs2Port<'_, PIO, SM> {
                 Some(Ps2Event::Sent(Err(reason)))
             }
             _ => None,
+        }
+    }
+
+    fn sending(&self) -> bool {
+        self.send_deadline.is_some() || self.abandoned
+    }
+
+    fn line_fault(&self) -> Option<LineFault> {
+        // The wire levels as the GPIOs read them (SIO input, bank 0).
+        let levels = pac::SIO.gpio_in(0).read();
+        let low = |pin: u8| levels & (1 << pin) == 0;
+        if low(self.data_pin + 1) {
+            Some(LineFault::ClockStuckLow)
+        } else if low(self.data_pin) {
+            Some(LineFault::DataStuckLow)
+        } else {
+            None
         }
     }
 

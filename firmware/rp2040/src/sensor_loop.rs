@@ -14,7 +14,7 @@ use embassy_sync::blocking_mutex::raw::ThreadModeRawMutex;
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_time::{Duration, Instant, Ticker};
 use foosball_protocol::InReport;
-use sensor_board::{BoardConfig, HostFrame, SensorBoard};
+use sensor_board::{BoardConfig, HostFrame, LineFault, SensorBoard, PORTS};
 
 use crate::ps2_pio::{Ps2Event, Ps2Ports};
 use crate::watchdog::Watchdog;
@@ -28,13 +28,30 @@ struct Sensors {
     /// `None` until [`sensor_task`] starts.
     ports: Option<Ps2Ports>,
     board: SensorBoard,
+    /// Per port: when to look at the lines after a failed send (microseconds; the
+    /// pull-ups need a moment to raise a line the state machine just released, and
+    /// the look waits for a moment with no command in flight).
+    check_lines_at: [Option<u64>; PORTS],
+    /// Per port: the line fault seen after the last failed send. A fault counts
+    /// when two failed sends in a row see it (a mouse's start bit can look like a
+    /// data line held low for an instant).
+    suspect: [Option<LineFault>; PORTS],
+    /// Per port: the line fault last logged.
+    logged: [Option<LineFault>; PORTS],
 }
 
 /// The ports and the board, shared by the sensor task and the USB IN task.
 static SENSORS: Mutex<ThreadModeRawMutex, RefCell<Sensors>> = Mutex::new(RefCell::new(Sensors {
     ports: None,
     board: SensorBoard::new(BoardConfig::DEFAULT),
+    check_lines_at: [None; PORTS],
+    suspect: [None; PORTS],
+    logged: [None; PORTS],
 }));
+
+/// How long after a failed send the lines are read: 10 kΩ pull-ups on a few
+/// nanofarads of cable settle in tens of microseconds.
+const LINE_SETTLE_US: u64 = 200;
 
 /// Microseconds since boot, the time base of `sensor-board`.
 pub fn now_us() -> u64 {
@@ -44,7 +61,13 @@ pub fn now_us() -> u64 {
 /// One pass over the eight ports at `now_us`: frames and command outcomes into the
 /// board, the board's next command per port out to the wire.
 fn pass(sensors: &mut Sensors, now_us: u64) {
-    let Sensors { ports, board } = sensors;
+    let Sensors {
+        ports,
+        board,
+        check_lines_at,
+        suspect,
+        logged,
+    } = sensors;
     let Some(ports) = ports.as_mut() else {
         return;
     };
@@ -57,12 +80,36 @@ fn pass(sensors: &mut Sensors, now_us: u64) {
                         defmt::debug!("port {}: command failed: {}", index, err);
                     }
                     board.on_command_sent(index, now_us, result);
+                    if result.is_err() {
+                        check_lines_at[index] = Some(now_us + LINE_SETTLE_US);
+                    }
                 }
                 Ps2Event::RxStall => {
                     defmt::warn!("port {}: RX FIFO stalled; receiver restarted", index);
                     board.on_rx_stall(index, now_us);
                 }
             }
+        }
+        if check_lines_at[index].is_some_and(|at| now_us >= at) && !port.sending() {
+            check_lines_at[index] = None;
+            let fault = port.line_fault();
+            if let Some(seen) = fault.filter(|_| fault == suspect[index]) {
+                board.on_line_fault(index, now_us, seen);
+            }
+            suspect[index] = fault;
+        }
+        let fault = board.driver(index).and_then(|driver| driver.line_fault());
+        if fault != logged[index] {
+            match fault {
+                Some(LineFault::ClockStuckLow) => {
+                    defmt::warn!("port {}: clock line stuck low (wiring fault)", index)
+                }
+                Some(LineFault::DataStuckLow) => {
+                    defmt::warn!("port {}: data line stuck low (wiring fault)", index)
+                }
+                None => defmt::info!("port {}: lines free again", index),
+            }
+            logged[index] = fault;
         }
         if let Some(byte) = board.poll(index, now_us) {
             defmt::trace!("port {}: sending {=u8:#04x}", index, byte);

@@ -2,7 +2,7 @@
 
 use foosball_protocol::{InReport, PaddleMotion, PaddleStatus};
 
-use crate::mouse::{MouseConfig, MouseDriver};
+use crate::mouse::{LineFault, MouseConfig, MouseDriver};
 use crate::paddle::{AxisMap, PaddleAccumulator};
 use crate::ps2::{Ps2Frame, SendError};
 use crate::PORTS;
@@ -72,6 +72,13 @@ impl SensorBoard {
         };
         if let Some(packet) = driver.on_frame(now_us, frame) {
             accumulator.add_packet(&packet, map);
+        }
+    }
+
+    /// A line of `port` was found stuck low (see [`MouseDriver::on_line_fault`]).
+    pub fn on_line_fault(&mut self, port: usize, now_us: u64, fault: LineFault) {
+        if let Some(driver) = self.drivers.get_mut(port) {
+            driver.on_line_fault(now_us, fault);
         }
     }
 

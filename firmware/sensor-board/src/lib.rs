@@ -23,7 +23,8 @@ pub mod ps2;
 
 pub use board::{BoardConfig, SensorBoard};
 pub use mouse::{
-    DriverEvents, DriverState, DriverStats, MouseConfig, MouseDriver, MousePacket, Resolution,
+    DriverEvents, DriverState, DriverStats, LineFault, MouseConfig, MouseDriver, MousePacket,
+    Resolution,
 };
 pub use paddle::{AxisMap, MouseAxis, PaddleAccumulator};
 pub use ps2::{

@@ -6,7 +6,9 @@ use common::{step, FakeMouse, Harness, MS};
 use sensor_board::mouse::{
     ABSENT_RETRY_INTERVAL_US, INTER_BYTE_TIMEOUT_US, MAX_INIT_ATTEMPTS, MAX_RESENDS, SEND_ATTEMPTS,
 };
-use sensor_board::{DriverState, MouseConfig, MouseDriver, Ps2Frame, Resolution, SendError};
+use sensor_board::{
+    DriverState, LineFault, MouseConfig, MouseDriver, Ps2Frame, Resolution, SendError,
+};
 
 fn streaming() -> Harness {
     let mut h = Harness::new(MouseConfig::default());
@@ -412,6 +414,24 @@ fn garbled_first_byte_asks_for_the_packet_again() {
     h.expect_send(0xFE);
     // Some mice acknowledge the resend first.
     assert_eq!(h.recv_all(&[0xFA, 0x08, 0x01, 0x01]).len(), 1);
+}
+
+#[test]
+fn a_stuck_line_is_its_own_fault_until_frames_come_again() {
+    let mut h = streaming();
+    h.driver.on_line_fault(h.now, LineFault::ClockStuckLow);
+    assert_eq!(h.driver.state(), DriverState::Absent);
+    assert_eq!(h.driver.line_fault(), Some(LineFault::ClockStuckLow));
+    h.driver.on_line_fault(h.now, LineFault::ClockStuckLow);
+    assert_eq!(
+        h.driver.stats().line_faults,
+        1,
+        "the same fault found again"
+    );
+    // Fixed and replugged: the mouse announces itself.
+    h.recv_all(&[0xAA, 0x00]);
+    assert_eq!(h.driver.line_fault(), None);
+    assert_eq!(h.driver.state(), DriverState::SetSampleRate);
 }
 
 #[test]

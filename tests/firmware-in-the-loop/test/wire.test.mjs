@@ -160,4 +160,35 @@ describe('realistic mice on the wire', () => {
     assert.equal(after.reduce((s, r) => s + r.paddles[port].axial, 0), 77);
     assert.equal(after.reduce((s, r) => s + r.paddles[port].rotation, 0), -31);
   });
+
+  it('a line stuck low is reported as a wiring fault, not as an unplugged mouse', (t) => {
+    const { board, mice } = rig;
+    const logFrom = board.log.length;
+    const reportFrom = rig.host.inReports.length;
+    // Port 6: its clock line shorted to ground; port 7: its data line.
+    mice[6].unplug();
+    board.setDeviceLow(mice[6].clockPin, true);
+    mice[7].unplug();
+    board.setDeviceLow(mice[7].dataPin, true);
+    const at = board.timeUs;
+    const seen = (re) => board.logMatching(re, logFrom).length > 0;
+    const both = () => seen(/port 6: clock line stuck low/) && seen(/port 7: data line stuck low/);
+    assert.ok(board.runUntil(both, 1_000_000), 'both faults logged within 1 s');
+    t.diagnostic(`both line faults logged ${((board.timeUs - at) / 1000).toFixed(0)} ms after the short`);
+    const last = lastReport();
+    assert.ok(!(last.paddles[6].status & STATUS.PRESENT) && !(last.paddles[7].status & STATUS.PRESENT));
+    rig.reports(reportFrom).forEach((r) =>
+      r.paddles.slice(0, 6).forEach((p, i) => assert.ok(p.status & STATUS.PRESENT, `paddle ${i} unaffected`)),
+    );
+    assert.equal(board.logMatching(/port [0-5]: .*stuck low/, logFrom).length, 0, 'no other port reported');
+    // Repaired: the lines come free and the mice are found again.
+    board.setDeviceLow(mice[6].clockPin, false);
+    board.setDeviceLow(mice[7].dataPin, false);
+    mice[6].plug();
+    mice[7].plug();
+    const back = () => [6, 7].every((p) => lastReport().paddles[p].status & STATUS.PRESENT);
+    // Port 6's self-test takes 1.5 s.
+    assert.ok(board.runUntil(back, 2_500_000), 'both ports present again');
+    assert.ok(seen(/port 6: lines free again/) && seen(/port 7: lines free again/));
+  });
 });

@@ -56,7 +56,7 @@ use super::command::{
     SET_RESOLUTION, SET_SAMPLE_RATE, STATUS_REMOTE_MODE, STATUS_REPORTING,
 };
 use super::config::{MouseConfig, ABSENT_RETRY_INTERVAL_US, INTER_BYTE_TIMEOUT_US, SEND_ATTEMPTS};
-use super::events::{DriverEvents, DriverStats};
+use super::events::{DriverEvents, DriverStats, LineFault};
 use super::packet::{MousePacket, PACKET_LEN};
 use crate::ps2::{FrameError, Ps2Frame, SendError};
 
@@ -162,6 +162,8 @@ pub struct MouseDriver {
     next_retry_us: u64,
     /// The id the mouse sent after its self-test.
     device_id: Option<u8>,
+    /// A line found stuck low, until a frame shows the port works again.
+    line_fault: Option<LineFault>,
     events: DriverEvents,
     stats: DriverStats,
 }
@@ -189,6 +191,7 @@ impl MouseDriver {
             probe_alive: false,
             next_retry_us: 0,
             device_id: None,
+            line_fault: None,
             events: DriverEvents {
                 framing_error: false,
                 parity_error: false,
@@ -207,6 +210,7 @@ impl MouseDriver {
                 retries: 0,
                 resends: 0,
                 dropped: 0,
+                line_faults: 0,
                 fifo_stalls: 0,
                 reconfigurations: 0,
             },
@@ -231,6 +235,8 @@ impl MouseDriver {
         received: Result<u8, FrameError>,
     ) -> Option<MousePacket> {
         self.stats.frames = self.stats.frames.wrapping_add(1);
+        // Something clocked a frame in: both lines work.
+        self.line_fault = None;
         let previous_frame_us = self.last_frame_us;
         self.last_frame_us = now_us;
         match received {
@@ -240,6 +246,23 @@ impl MouseDriver {
                 None
             }
         }
+    }
+
+    /// The platform found one of the port's lines stuck low at `now_us` (after a
+    /// failed send, with the host's drivers released): the port is absent, and
+    /// [`line_fault`](Self::line_fault) says why until a frame arrives again.
+    pub fn on_line_fault(&mut self, now_us: u64, fault: LineFault) {
+        if self.line_fault != Some(fault) {
+            self.stats.line_faults = self.stats.line_faults.wrapping_add(1);
+        }
+        self.line_fault = Some(fault);
+        self.go_absent(now_us);
+    }
+
+    /// A line stuck low, if one was found and no frame has arrived since: a wiring
+    /// fault, not an unplugged mouse.
+    pub const fn line_fault(&self) -> Option<LineFault> {
+        self.line_fault
     }
 
     /// The port's receiver overflowed (the RX FIFO was full, so bits were lost and

@@ -21,6 +21,19 @@ impl DriverEvents {
     }
 }
 
+/// A PS/2 line held low by something other than the mouse clocking: a short to
+/// ground, a damaged cable or connector, a failed level shifter. Unlike an unplugged
+/// mouse (both lines idle high through the pull-ups), the port cannot work at all
+/// until it is fixed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum LineFault {
+    /// The clock line stays low with the host not pulling it.
+    ClockStuckLow,
+    /// The data line stays low with the clock idle (no frame being clocked).
+    DataStuckLow,
+}
+
 /// Wrapping diagnostic counters since the driver was created.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -50,6 +63,8 @@ pub struct DriverStats {
     pub resends: u32,
     /// Packets lost for good: garbled after every resend, or cut short.
     pub dropped: u32,
+    /// Times a line was found stuck low ([`LineFault`]).
+    pub line_faults: u32,
     /// Receiver overflows: the RX FIFO was full, bits were lost and the receiver was
     /// restarted (reported by the platform, [`crate::MouseDriver::on_rx_stall`]).
     pub fifo_stalls: u32,

@@ -10,5 +10,5 @@ pub use config::{
     MouseConfig, Resolution, ABSENT_RETRY_INTERVAL_US, INTER_BYTE_TIMEOUT_US, SEND_ATTEMPTS,
 };
 pub use driver::{DriverState, MouseDriver, MAX_INIT_ATTEMPTS, MAX_RESENDS};
-pub use events::{DriverEvents, DriverStats};
+pub use events::{DriverEvents, DriverStats, LineFault};
 pub use packet::MousePacket;
