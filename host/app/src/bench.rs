@@ -40,6 +40,8 @@ pub struct Args {
 pub enum What {
     /// µs per 1 kHz physics step of the full table in play, and input-to-rod latency.
     Match(MatchArgs),
+    /// Frame time of the renderer on the demo match (one JSON line).
+    Render(crate::render_bench::RenderArgs),
 }
 
 /// Arguments of `bench match`.
@@ -63,6 +65,7 @@ pub struct MatchArgs {
 pub fn run(args: &Args) -> Result<()> {
     match &args.what {
         What::Match(m) => run_match(m),
+        What::Render(r) => crate::render_bench::run(r),
     }
 }
 

@@ -10,11 +10,13 @@
 //! space-foosball play [--board auto|usb|emulated|socket[:PATH]] [--table standard] [--fullscreen]
 //! space-foosball play --headless [--seed N] [--goals N] [--table standard|paper|FILE] [--script FILE]
 //! space-foosball bench match [--json] [--steps N] [--table standard|paper|FILE]
+//! space-foosball bench render [--frames 120] [--width W --height H]
 //! ```
 
 mod bench;
 mod headless;
 mod play;
+mod render_bench;
 mod screenshot;
 mod window;
 

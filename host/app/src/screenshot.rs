@@ -4,6 +4,7 @@ use anyhow::{bail, Context, Result};
 use foosball_render::demo::screen_snapshot;
 use foosball_render::{Renderer, Screen, MAX_SIDE};
 use space_foosball::atomic_file::write_atomic;
+use space_foosball_app::view;
 use std::path::{Path, PathBuf};
 
 /// Which screens to picture.
@@ -70,7 +71,7 @@ pub fn run(args: &Args) -> Result<()> {
     let jobs = jobs(args.screen, &args.out)?;
     let mut renderer = Renderer::new().context("opening a graphics adapter")?;
     for (screen, path) in jobs {
-        let snap = screen_snapshot(&table, args.time, screen);
+        let snap = screen_snapshot(&view::table_geometry(&table), args.time, screen);
         let img = renderer
             .render_to_rgba(&snap, screen, args.width, args.height)
             .with_context(|| format!("rendering screen {}", screen.name()))?;

@@ -12,7 +12,7 @@
 //! of skipping; elsewhere, without `DISPLAY`/`WAYLAND_DISPLAY`, it prints why it skips.
 
 use foosball_render::scene::score_rect;
-use foosball_render::{Camera, TableGeometry};
+use foosball_render::Camera;
 use space_foosball::side::Side;
 use space_foosball::table::Table;
 use std::process::Command;
@@ -185,7 +185,7 @@ fn the_window_plays_a_match_from_the_keyboard_against_the_computer() {
     assert_eq!((pic.w, pic.h), (W, H));
     // The ball, where the physics put it.
     let ball = numbers(field(json, "ball"));
-    let geometry = TableGeometry::from(&table);
+    let geometry = space_foosball_app::view::table_geometry(&table);
     let cam = Camera::for_table(&geometry, W as f32 / H as f32);
     let p = [ball[0], ball[1], ball[2]];
     let (bx, by) = cam.project(p, W, H).expect("ball in view");

@@ -1,11 +1,15 @@
 //! The fixed camera: above the `Home` players' side of the table (`−y`), looking down
 //! at the table at an angle, the table's length (`x`) across the screen.
 
-use crate::snapshot::TableGeometry;
+use crate::view::TableGeometry;
 use glam::{Mat4, Vec3, Vec4};
 
 /// Vertical field of view, radians.
 pub const FOV_Y_RAD: f32 = 0.62;
+
+/// How far past a side wall the camera keeps in view, m: the rod ends with their
+/// handles, and a margin.
+pub const HANDLE_REACH_M: f32 = 0.24;
 
 /// A perspective camera (right-handed, depth 0…1 as wgpu expects).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,9 +35,10 @@ impl Camera {
         } else {
             16.0 / 9.0
         };
-        // Half sizes to keep on screen, with some margin.
+        // Half sizes to keep on screen, with some margin: across the table that
+        // includes the handles (they stick out [`HANDLE_REACH_M`] past the walls).
         let half_x = 0.5 * (table.length_m + 2.0 * table.goal_depth_m) as f32 + 0.04;
-        let half_y = 0.5 * table.width_m as f32 + 0.08;
+        let half_y = 0.5 * table.width_m as f32 + HANDLE_REACH_M;
         let tan_y = (0.5 * FOV_Y_RAD).tan();
         let tan_x = tan_y * aspect;
         // Elevation of the view direction above the horizontal.
@@ -85,11 +90,11 @@ impl Camera {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use space_foosball::table::Table;
+    use crate::fixture::reference_table;
 
     #[test]
     fn table_corners_are_on_screen_and_home_side_is_nearer() {
-        let g = TableGeometry::from(&Table::standard());
+        let g = reference_table();
         let c = Camera::for_table(&g, 16.0 / 9.0);
         let (w, h) = (1280, 720);
         for sx in [-1.0, 1.0] {

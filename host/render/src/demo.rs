@@ -2,12 +2,12 @@
 //! ball bouncing across the table, recent kicks and bounces. A pure function of time.
 
 use crate::scene::Screen;
-use crate::snapshot::{BallSnapshot, EventKind, FrameSnapshot, RenderEvent, RodPose};
-use space_foosball::side::Side;
-use space_foosball::table::Table;
+use crate::view::{
+    BallSnapshot, EventKind, FrameSnapshot, RenderEvent, RodPose, TableGeometry, Team,
+};
 
 /// The demo scene at time `t` (s) on `table`, with `score`.
-pub fn demo_snapshot(table: &Table, t: f64, score: [u32; 2]) -> FrameSnapshot {
+pub fn demo_snapshot(table: &TableGeometry, t: f64, score: [u32; 2]) -> FrameSnapshot {
     let rods: Vec<RodPose> = table
         .rods
         .iter()
@@ -15,12 +15,12 @@ pub fn demo_snapshot(table: &Table, t: f64, score: [u32; 2]) -> FrameSnapshot {
         .map(|(i, r)| {
             let k = i as f64;
             RodPose {
-                slide_m: 0.8 * r.half_travel_m() * (0.9 * t + 1.7 * k).sin(),
+                slide_m: 0.4 * r.travel_m * (0.9 * t + 1.7 * k).sin(),
                 angle_rad: 0.6 * (1.3 * t + 0.9 * k).sin(),
             }
         })
         .collect();
-    let r = table.ball.radius_m();
+    let r = table.ball_radius_m;
     // The ball: a bouncing path across the table (period of a hop 0.8 s).
     let hop = 0.8;
     let phase = (t / hop).fract();
@@ -54,10 +54,15 @@ pub fn demo_snapshot(table: &Table, t: f64, score: [u32; 2]) -> FrameSnapshot {
 }
 
 /// The demo scene just after a goal by `scorer` (burst in the goal mouth).
-pub fn goal_snapshot(table: &Table, t: f64, score: [u32; 2], scorer: Side) -> FrameSnapshot {
+pub fn goal_snapshot(
+    table: &TableGeometry,
+    t: f64,
+    score: [u32; 2],
+    scorer: Team,
+) -> FrameSnapshot {
     let mut s = demo_snapshot(table, t, score);
     let x = table.goal_line_x(scorer.other());
-    let r = table.ball.radius_m();
+    let r = table.ball_radius_m;
     s.ball.position = [x + 0.03 * scorer.attack_dir(), 0.02, r];
     s.events.push(RenderEvent {
         time_s: t - 0.35,
@@ -71,9 +76,9 @@ pub fn goal_snapshot(table: &Table, t: f64, score: [u32; 2], scorer: Side) -> Fr
 /// The demo scene each screen is pictured with (screenshots, README pictures) at time
 /// `t` (s): the goal ceremony just after a Home goal (2–1), the final result at 5–3,
 /// every other screen over the demo match at 2–1.
-pub fn screen_snapshot(table: &Table, t: f64, screen: Screen) -> FrameSnapshot {
+pub fn screen_snapshot(table: &TableGeometry, t: f64, screen: Screen) -> FrameSnapshot {
     match screen {
-        Screen::GoalCeremony => goal_snapshot(table, t, [2, 1], Side::Home),
+        Screen::GoalCeremony => goal_snapshot(table, t, [2, 1], Team::Home),
         Screen::FinalResult => demo_snapshot(table, t, [5, 3]),
         _ => demo_snapshot(table, t, [2, 1]),
     }

@@ -2,7 +2,7 @@
 
 use crate::image::RgbaImage;
 use crate::scene::{self, Hud, MeshInstance, Scene, Screen, Sprite, UiRect};
-use crate::snapshot::FrameSnapshot;
+use crate::view::FrameSnapshot;
 use crate::RenderError;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;

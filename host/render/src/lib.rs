@@ -2,28 +2,33 @@
 //! their boxes in team colours, the ball scaled up as it rises with a shadow blob,
 //! particles on kicks, bounces and goals, the score, and the cabinet's screens.
 //!
-//! The renderer draws a [`FrameSnapshot`], a plain value independent of the physics
-//! crate; the match thread publishes snapshots and the render thread interpolates
+//! The renderer draws a view model ([`view`]): a [`FrameSnapshot`] of plain values
+//! (table geometry, teams, character looks, poses) that the program fills in from the
+//! game; this crate depends on neither the game nor the physics; the match thread publishes snapshots and the render thread interpolates
 //! between the two newest ([`FrameSnapshot::at_time`]), so a slow frame never blocks
 //! physics. [`Renderer`] renders offscreen on whatever adapter exists, including Mesa's
 //! software Vulkan driver (lavapipe); [`render_to_rgba`] is the one-shot form.
 
 pub mod camera;
+mod characters;
 pub mod demo;
 pub mod font;
 mod gpu;
 mod image;
 pub mod scene;
-pub mod snapshot;
+pub mod view;
 mod window;
+
+#[cfg(test)]
+mod fixture;
 
 pub use camera::Camera;
 pub use gpu::{AdapterSummary, Renderer, MAX_SIDE};
 pub use image::RgbaImage;
 pub use scene::{ball_visual_scale, Hud, Screen};
-pub use snapshot::{
-    BallSnapshot, BoxPose, EventKind, FrameSnapshot, ManSnapshot, RenderEvent, RodPose,
-    TableGeometry,
+pub use view::{
+    BallSnapshot, CharacterKind, CharacterLook, EventKind, FrameSnapshot, ManSnapshot, RenderEvent,
+    RodGeometry, RodPose, TableGeometry, Team,
 };
 pub use window::{PresentChoice, WindowRenderer};
 

@@ -2,12 +2,11 @@
 //! is drawn where. No GPU calls here, so it is testable anywhere.
 
 use crate::camera::Camera;
+use crate::characters;
 use crate::font;
-use crate::snapshot::{BoxPose, EventKind, FrameSnapshot};
+use crate::view::{CharacterKind, EventKind, FrameSnapshot, Team};
 use bytemuck::{Pod, Zeroable};
 use glam::{Quat, Vec3};
-use space_foosball::side::Side;
-use space_foosball::table::CharacterType;
 
 /// Home team colour (linear RGB): electric blue.
 pub const HOME_COLOR: [f32; 3] = [0.05, 0.42, 1.0];
@@ -15,6 +14,9 @@ pub const HOME_COLOR: [f32; 3] = [0.05, 0.42, 1.0];
 pub const AWAY_COLOR: [f32; 3] = [1.0, 0.10, 0.22];
 /// Ball colour (linear RGB): gold, distinct from both teams and the stars.
 pub const BALL_COLOR: [f32; 3] = [1.0, 0.72, 0.06];
+/// Colour of a held rod's handle and markers (linear RGB): lime, unlike either
+/// team, the ball or the markings.
+pub const HELD_COLOR: [f32; 3] = [0.25, 1.0, 0.08];
 /// Score digits colour (linear RGB): white.
 pub const SCORE_COLOR: [f32; 3] = [1.0, 1.0, 1.0];
 
@@ -154,7 +156,7 @@ pub struct Scene {
 /// title (the calibration step to do now, "PAUSED"), small lines at the bottom left
 /// (fit quality, the keys) and, on the selection screen, who plays each team.
 /// Upper-case letters, digits and `-!:./?%` are drawn; other characters are blank.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Hud {
     /// Prominent lines (split at `\n`) centred from 36 % of the height, each shrunk to
     /// fit the width; empty for none. On the calibration screen it replaces the
@@ -165,6 +167,20 @@ pub struct Hud {
     /// On the selection screen: a note under each team's panel (`[home, away]`, e.g.
     /// "PLAYER", "COMPUTER").
     pub team_notes: Option<[String; 2]>,
+    /// Opacity of the bottom lines, `0…1` (1 by default): the key hints fade out once
+    /// play starts. Values outside `0…1` are clamped; NaN counts as 1.
+    pub lines_opacity: f32,
+}
+
+impl Default for Hud {
+    fn default() -> Self {
+        Hud {
+            heading: String::new(),
+            lines: Vec::new(),
+            team_notes: None,
+            lines_opacity: 1.0,
+        }
+    }
 }
 
 impl Hud {
@@ -198,7 +214,11 @@ pub fn build_with_hud(
         ui: Vec::new(),
     };
     table_boxes(snap, &mut scene.boxes);
-    men_boxes(snap, &mut scene.boxes);
+    if screen == Screen::CharacterSelect {
+        characters::draw_previews(snap, &mut scene);
+    } else {
+        characters::draw_men(snap, &mut scene);
+    }
     ball(snap, &mut scene);
     particles(snap, &mut scene.particles);
     overlay(
@@ -215,7 +235,6 @@ pub fn build_with_hud(
 
 fn hud_overlay(hud: &Hud, w: f32, h: f32, out: &mut Vec<UiRect>) {
     let mid = (h / 110.0).round().max(2.0);
-    let small = (h / 330.0).round().max(1.0);
     let mut y = 0.36 * h;
     for line in hud.heading.lines().filter(|l| !l.trim().is_empty()) {
         let s = line.to_ascii_uppercase();
@@ -236,43 +255,116 @@ fn hud_overlay(hud: &Hud, w: f32, h: f32, out: &mut Vec<UiRect>) {
         title(out, w, &s, 0.5 * w, y, cell, [1.0, 0.95, 0.4]);
         y += (font::GLYPH_H as f32 + 4.0) * cell;
     }
-    let line_h = (font::GLYPH_H as f32 + 3.0) * small;
-    let n = hud.lines.len() as f32;
-    let mut y = h - 1.5 * small - n * line_h;
-    for line in &hud.lines {
-        let s = line.to_ascii_uppercase();
-        let x = 1.5 * small + small;
-        rect(
-            out,
-            [
-                x - small,
-                y - small,
-                x + font::text_width(&s, small) + small,
-                y + (font::GLYPH_H as f32 + 1.0) * small,
-            ],
-            [0.0, 0.0, 0.03, 0.55],
-        );
-        text(out, &s, x, y, small, [0.85, 0.9, 1.0, 1.0]);
-        y += line_h;
+    let alpha = if hud.lines_opacity.is_nan() {
+        1.0
+    } else {
+        hud.lines_opacity.clamp(0.0, 1.0)
+    };
+    if alpha <= 0.0 {
+        return;
+    }
+    let Some(layout) = hint_layout(hud, w, h) else {
+        return;
+    };
+    let small = layout.cell;
+    rect(out, layout.rect, [0.0, 0.0, 0.03, 0.6 * alpha]);
+    let mut y = layout.rect[1] + small;
+    for line in &layout.lines {
+        let x = layout.rect[2] - small - font::text_width(line, small);
+        text(out, line, x, y, small, [0.85, 0.9, 1.0, alpha]);
+        y += layout.line_h;
     }
 }
 
-fn team_color(side: Side) -> [f32; 3] {
+/// Widest the bottom lines may be, as a fraction of the image width: the bottom-right
+/// corner, right of Home's last handle (Home's handles are on the near rail, none at
+/// the Away end).
+pub const HINT_WIDTH_FRAC: f32 = 0.27;
+
+/// The bottom lines laid out: wrapped to fit, with their panel.
+struct HintLayout {
+    lines: Vec<String>,
+    cell: f32,
+    line_h: f32,
+    rect: [f32; 4],
+}
+
+fn hint_layout(hud: &Hud, w: f32, h: f32) -> Option<HintLayout> {
+    let cell = (h / 330.0).round().max(1.0);
+    let max_chars = ((HINT_WIDTH_FRAC * w - 2.0 * cell) / (font::ADVANCE as f32 * cell))
+        .floor()
+        .max(8.0) as usize;
+    let lines: Vec<String> = hud
+        .lines
+        .iter()
+        .flat_map(|l| wrap(&l.to_ascii_uppercase(), max_chars))
+        .collect();
+    if lines.is_empty() {
+        return None;
+    }
+    let line_h = (font::GLYPH_H as f32 + 3.0) * cell;
+    let widest = lines
+        .iter()
+        .map(|l| font::text_width(l, cell))
+        .fold(0.0, f32::max);
+    let x1 = w - cell;
+    let y1 = h - cell;
+    let rect = [
+        x1 - widest - 2.0 * cell,
+        y1 - lines.len() as f32 * line_h - cell,
+        x1,
+        y1,
+    ];
+    Some(HintLayout {
+        lines,
+        cell,
+        line_h,
+        rect,
+    })
+}
+
+/// The panel of the bottom lines (`hud.lines`, key hints and notices) `[x0, y0, x1,
+/// y1]` in pixels on a `width × height` image; `None` when there are none.
+pub fn hint_rect(hud: &Hud, width: f32, height: f32) -> Option<[f32; 4]> {
+    hint_layout(hud, width, height).map(|l| l.rect)
+}
+
+/// Splits `s` at spaces into lines of at most `max` characters (a longer word is cut).
+fn wrap(s: &str, max: usize) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut line = String::new();
+    for word in s.split_whitespace() {
+        let word: String = word.chars().take(max).collect();
+        if !line.is_empty() && line.chars().count() + 1 + word.chars().count() > max {
+            out.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(&word);
+    }
+    if !line.is_empty() {
+        out.push(line);
+    }
+    out
+}
+
+pub(crate) fn team_color(side: Team) -> [f32; 3] {
     match side {
-        Side::Home => HOME_COLOR,
-        Side::Away => AWAY_COLOR,
+        Team::Home => HOME_COLOR,
+        Team::Away => AWAY_COLOR,
     }
 }
 
-fn rgba(c: [f32; 3], a: f32) -> [f32; 4] {
+pub(crate) fn rgba(c: [f32; 3], a: f32) -> [f32; 4] {
     [c[0], c[1], c[2], a]
 }
 
-fn scale3(c: [f32; 3], k: f32) -> [f32; 3] {
+pub(crate) fn scale3(c: [f32; 3], k: f32) -> [f32; 3] {
     [c[0] * k, c[1] * k, c[2] * k]
 }
 
-fn cuboid(
+pub(crate) fn cuboid(
     center: [f32; 3],
     half: [f32; 3],
     rot: Quat,
@@ -362,7 +454,7 @@ fn table_boxes(snap: &FrameSnapshot, out: &mut Vec<MeshInstance>) {
         ));
     }
     // End walls around the goal mouths, goal boxes glowing in the defending team's colour.
-    for (side, s) in [(Side::Home, -1.0f32), (Side::Away, 1.0)] {
+    for (side, s) in [(Team::Home, -1.0f32), (Team::Away, 1.0)] {
         let x = s * (hl + 0.5 * wt);
         let seg = 0.5 * (hw - gw);
         for sy in [-1.0f32, 1.0] {
@@ -415,8 +507,10 @@ fn table_boxes(snap: &FrameSnapshot, out: &mut Vec<MeshInstance>) {
             0.3,
         ));
     }
-    // Rods: thin square bars (turning with the rod angle) running past both walls, and
-    // a handle on the owning team's side (Home at −y, Away at +y).
+    // Rods: hidden over the field (the players watch the ball and the men), drawn from
+    // the walls out, with a handle on the owning team's side (Home at −y, Away at +y).
+    // A held rod glows: a bright handle, a ring at the wall and a faint line over the
+    // field.
     let rod_h = t.rod_height_m as f32;
     let rod_half_len = hw + 0.16;
     for (i, rod) in t.rods.iter().enumerate() {
@@ -424,55 +518,47 @@ fn table_boxes(snap: &FrameSnapshot, out: &mut Vec<MeshInstance>) {
         let slide = pose.slide_m as f32;
         let rot = Quat::from_rotation_y(pose.angle_rad as f32);
         let x = rod.x_m as f32;
-        out.push(cuboid(
-            [x, slide, rod_h],
-            [0.006, rod_half_len, 0.006],
-            rot,
-            [0.55, 0.58, 0.66],
-            0.0,
-        ));
-        let sign = match rod.team {
-            Side::Home => -1.0f32,
-            Side::Away => 1.0,
-        };
-        out.push(cuboid(
-            [x, slide + sign * (rod_half_len + 0.045), rod_h],
-            [0.016, 0.045, 0.016],
-            rot,
-            scale3(team_color(rod.team), 0.7),
-            0.2,
-        ));
-    }
-}
-
-fn pose_instance(b: &BoxPose, color: [f32; 3], emissive: f32) -> MeshInstance {
-    let q = Quat::from_array(b.rotation.map(|v| v as f32)).normalize();
-    cuboid(
-        b.center.map(|v| v as f32),
-        b.half_extents.map(|v| v as f32),
-        q,
-        color,
-        emissive,
-    )
-}
-
-/// The men: their boxes in team colour, the first (body) bright, the others (legs)
-/// darker; short-and-wide men a little warmer so the two types differ in tint as well
-/// as shape.
-fn men_boxes(snap: &FrameSnapshot, out: &mut Vec<MeshInstance>) {
-    for man in &snap.men {
-        let base = team_color(man.team);
-        let base = match man.character {
-            CharacterType::TallThin => base,
-            CharacterType::ShortWide => [
-                (base[0] * 0.8 + 0.2).min(1.0),
-                base[1] * 0.9 + 0.05,
-                base[2] * 0.8,
-            ],
-        };
-        for (k, b) in man.boxes.iter().enumerate() {
-            let c = if k == 0 { base } else { scale3(base, 0.55) };
-            out.push(pose_instance(b, c, 0.12));
+        let held = snap.held_rods.contains(&i);
+        let sign = rod.team.handle_sign() as f32;
+        let steel = [0.55, 0.58, 0.66];
+        // The two stubs outside the walls: [from the wall, to the rod end].
+        for s in [sign, -sign] {
+            let end = slide + s * rod_half_len;
+            let (a, b) = (s * (hw + wt), end);
+            if (b - a) * s <= 0.0 {
+                continue;
+            }
+            out.push(cuboid(
+                [x, 0.5 * (a + b), rod_h],
+                [0.006, 0.5 * (b - a).abs(), 0.006],
+                rot,
+                steel,
+                0.0,
+            ));
+        }
+        let handle = [x, slide + sign * (rod_half_len + 0.045), rod_h];
+        if held {
+            out.push(cuboid(handle, [0.021, 0.05, 0.021], rot, HELD_COLOR, 0.45));
+            out.push(axis_box(
+                [x, sign * (hw + wt + 0.012), rod_h],
+                [0.012, 0.006, 0.012],
+                HELD_COLOR,
+                0.45,
+            ));
+            out.push(axis_box(
+                [x, 0.0, rod_h],
+                [0.0018, hw, 0.0018],
+                scale3(HELD_COLOR, 0.6),
+                0.8,
+            ));
+        } else {
+            out.push(cuboid(
+                handle,
+                [0.016, 0.045, 0.016],
+                rot,
+                scale3(team_color(rod.team), 0.7),
+                0.2,
+            ));
         }
     }
 }
@@ -607,18 +693,27 @@ fn particles(snap: &FrameSnapshot, out: &mut Vec<Sprite>) {
 }
 
 /// The rectangle of the score display `[x0, y0, x1, y1]` (pixels) on a
-/// `width × height` image.
+/// `width × height` image: the top-left corner, where the camera leaves no handle
+/// (the far handles are Away's, on the right half of the far rail).
 pub fn score_rect(width: f32, height: f32) -> [f32; 4] {
+    let _ = width;
     let cell = score_cell(height);
-    let w = font::text_width("99 - 99", cell) + 8.0 * cell;
-    let h = (font::GLYPH_H as f32 + 4.0) * cell;
-    let x0 = (0.5 * (width - w)).round();
-    let y0 = (0.02 * height).round();
+    let small = (0.5 * cell).round().max(1.0);
+    let w = font::text_width(&"W".repeat(NAME_CHARS), small)
+        + font::text_width("99", cell)
+        + 5.5 * cell;
+    let row_h = (font::GLYPH_H as f32 + 2.0) * cell;
+    let h = cell + 2.0 * row_h + (font::GLYPH_H as f32 + 1.5) * small;
+    let x0 = (0.01 * height).round();
+    let y0 = (0.01 * height).round();
     [x0, y0, x0 + w, y0 + h]
 }
 
+/// Longest team name shown in the score panel, characters.
+const NAME_CHARS: usize = 8;
+
 fn score_cell(height: f32) -> f32 {
-    (height / 90.0).round().max(2.0)
+    (height / 140.0).round().max(2.0)
 }
 
 fn text(out: &mut Vec<UiRect>, s: &str, x: f32, y: f32, cell: f32, color: [f32; 4]) {
@@ -658,25 +753,66 @@ fn rect(out: &mut Vec<UiRect>, r: [f32; 4], color: [f32; 4]) {
 fn score_display(snap: &FrameSnapshot, width: f32, height: f32, out: &mut Vec<UiRect>) {
     let r = score_rect(width, height);
     let cell = score_cell(height);
-    rect(out, r, [0.01, 0.01, 0.03, 0.85]);
-    // Team colour bars at the two ends.
-    rect(out, [r[0], r[1], r[0] + cell, r[3]], rgba(HOME_COLOR, 1.0));
-    rect(out, [r[2] - cell, r[1], r[2], r[3]], rgba(AWAY_COLOR, 1.0));
-    let home = format!("{:>2}", snap.score[0].min(99));
-    let away = format!("{:<2}", snap.score[1].min(99));
-    let s = format!("{home} - {away}");
-    let x = (0.5 * (r[0] + r[2]) - 0.5 * font::text_width(&s, cell)).round();
-    text(out, &s, x, r[1] + 2.0 * cell, cell, rgba(SCORE_COLOR, 1.0));
+    let small = (0.5 * cell).round().max(1.0);
+    // Opaque: nothing shows through, and the corner is clear of every handle.
+    rect(out, r, [0.01, 0.01, 0.03, 1.0]);
+    let row_h = (font::GLYPH_H as f32 + 2.0) * cell;
+    let name_x = r[0] + 2.5 * cell;
+    let digits_x = r[2] - cell - font::text_width("99", cell);
+    for team in Team::BOTH {
+        let y0 = r[1] + cell + team.index() as f32 * row_h;
+        let c = team_color(team);
+        rect(
+            out,
+            [r[0], y0 - 0.5 * cell, r[0] + cell, y0 + row_h - 1.5 * cell],
+            rgba(c, 1.0),
+        );
+        let name: String = team_label(snap, team).chars().take(NAME_CHARS).collect();
+        let ny = y0 + 0.5 * font::GLYPH_H as f32 * (cell - small);
+        text(out, &name, name_x, ny, small, rgba(c, 1.0));
+        let goals = format!("{:>2}", snap.score[team.index()].min(99));
+        text(out, &goals, digits_x, y0, cell, rgba(SCORE_COLOR, 1.0));
+    }
+    // The match clock under the scores.
+    let secs = if snap.time_s.is_finite() {
+        snap.time_s.clamp(0.0, 5999.0) as u32
+    } else {
+        0
+    };
+    let clock = format!("{}:{:02}", secs / 60, secs % 60);
+    text(
+        out,
+        &clock,
+        name_x,
+        r[1] + cell + 2.0 * row_h,
+        small,
+        [0.75, 0.8, 0.9, 1.0],
+    );
 }
 
-fn character_name(c: CharacterType) -> (&'static str, &'static str) {
+fn character_name(c: CharacterKind) -> (&'static str, &'static str) {
     match c {
-        CharacterType::TallThin => ("TALL THIN", "STRONG ATTACK"),
-        CharacterType::ShortWide => ("SHORT WIDE", "STRONG DEFENCE"),
+        CharacterKind::TallThin => ("TALL THIN", "STRONG ATTACK"),
+        CharacterKind::ShortWide => ("SHORT WIDE", "STRONG DEFENCE"),
     }
 }
 
-fn last_scorer(snap: &FrameSnapshot) -> Side {
+/// A team's name as shown: its name from the table, or HOME / AWAY.
+fn team_label(snap: &FrameSnapshot, team: Team) -> String {
+    let name = snap.table.team_names[team.index()]
+        .trim()
+        .to_ascii_uppercase();
+    if name.is_empty() {
+        match team {
+            Team::Home => "HOME".into(),
+            Team::Away => "AWAY".into(),
+        }
+    } else {
+        name
+    }
+}
+
+fn last_scorer(snap: &FrameSnapshot) -> Team {
     snap.events
         .iter()
         .rev()
@@ -685,9 +821,9 @@ fn last_scorer(snap: &FrameSnapshot) -> Side {
             _ => None,
         })
         .unwrap_or(if snap.score[1] > snap.score[0] {
-            Side::Away
+            Team::Away
         } else {
-            Side::Home
+            Team::Home
         })
 }
 
@@ -740,29 +876,30 @@ fn overlay(snap: &FrameSnapshot, screen: Screen, hud: &Hud, w: f32, h: f32, out:
             );
         }
         Screen::CharacterSelect => {
-            dim(out, 0.45);
-            title(out, w, "CHOOSE YOUR TEAM", cx, 0.08 * h, mid * 1.5, white);
-            for (i, side) in Side::BOTH.into_iter().enumerate() {
+            // No dimming: the live previews stand on their stage in the 3-D scene; the
+            // text sits above and below them.
+            title(out, w, "CHOOSE YOUR TEAM", cx, 0.03 * h, mid * 1.2, white);
+            for (i, side) in Team::BOTH.into_iter().enumerate() {
                 let px = if i == 0 { 0.27 * w } else { 0.73 * w };
                 let (name, note) = character_name(snap.table.characters[i]);
-                let label = if i == 0 { "HOME" } else { "AWAY" };
+                let label = team_label(snap, side);
                 let pw = font::text_width("STRONG DEFENCE", mid) + 4.0 * mid;
                 rect(
                     out,
-                    [px - 0.5 * pw, 0.3 * h, px + 0.5 * pw, 0.62 * h],
-                    [0.0, 0.0, 0.03, 0.75],
-                );
-                rect(
-                    out,
-                    [px - 0.5 * pw, 0.3 * h, px + 0.5 * pw, 0.3 * h + mid],
+                    [px - 0.5 * pw, 0.12 * h, px + 0.5 * pw, 0.12 * h + small],
                     rgba(team_color(side), 1.0),
                 );
-                title(out, w, label, px, 0.34 * h, mid * 1.5, team_color(side));
-                title(out, w, name, px, 0.45 * h, mid, white);
-                title(out, w, note, px, 0.54 * h, small, [0.7, 0.8, 0.9]);
+                title(out, w, &label, px, 0.14 * h, mid, team_color(side));
+                rect(
+                    out,
+                    [px - 0.5 * pw, 0.67 * h, px + 0.5 * pw, 0.83 * h],
+                    [0.0, 0.0, 0.03, 0.75],
+                );
+                title(out, w, name, px, 0.685 * h, mid, white);
+                title(out, w, note, px, 0.77 * h, small, [0.7, 0.8, 0.9]);
                 if let Some(notes) = &hud.team_notes {
                     let s = notes[i].to_ascii_uppercase();
-                    title(out, w, &s, px, 0.66 * h, mid, team_color(side));
+                    title(out, w, &s, px, 0.845 * h, mid, team_color(side));
                 }
             }
             title(
@@ -770,7 +907,7 @@ fn overlay(snap: &FrameSnapshot, screen: Screen, hud: &Hud, w: f32, h: f32, out:
                 w,
                 "SPIN A ROD TO CHOOSE - PUSH TO START",
                 cx,
-                0.86 * h,
+                0.93 * h,
                 mid,
                 scale3(white, pulse),
             );
@@ -780,8 +917,8 @@ fn overlay(snap: &FrameSnapshot, screen: Screen, hud: &Hud, w: f32, h: f32, out:
             let side = last_scorer(snap);
             title(out, w, "GOAL!", cx, 0.25 * h, big * 1.6, team_color(side));
             let who = match side {
-                Side::Home => "HOME SCORES",
-                Side::Away => "AWAY SCORES",
+                Team::Home => "HOME SCORES",
+                Team::Away => "AWAY SCORES",
             };
             title(out, w, who, cx, 0.56 * h, mid, white);
             score_display(snap, w, h, out);
@@ -854,8 +991,8 @@ fn overlay(snap: &FrameSnapshot, screen: Screen, hud: &Hud, w: f32, h: f32, out:
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::snapshot::RenderEvent;
-    use space_foosball::table::Table;
+    use crate::fixture::reference_table;
+    use crate::view::RenderEvent;
 
     #[test]
     fn ball_scale_law() {
@@ -884,7 +1021,7 @@ mod tests {
 
     #[test]
     fn events_spawn_particles_only_while_young() {
-        let mut snap = FrameSnapshot::at_rest(&Table::standard());
+        let mut snap = FrameSnapshot::at_rest(&reference_table());
         snap.time_s = 10.0;
         let ev = |t: f64, kind| RenderEvent {
             time_s: t,
@@ -895,7 +1032,7 @@ mod tests {
         snap.events = vec![
             ev(9.9, EventKind::Kick),
             ev(9.95, EventKind::Bounce),
-            ev(9.5, EventKind::Goal(Side::Away)),
+            ev(9.5, EventKind::Goal(Team::Away)),
             ev(5.0, EventKind::Kick),
             ev(11.0, EventKind::Kick),
         ];
@@ -911,7 +1048,7 @@ mod tests {
 
     #[test]
     fn every_screen_has_an_overlay_and_score_text_depends_on_score() {
-        let mut snap = FrameSnapshot::at_rest(&Table::standard());
+        let mut snap = FrameSnapshot::at_rest(&reference_table());
         for s in Screen::ALL {
             assert!(!build(&snap, s, 640, 360).ui.is_empty(), "{s:?}");
         }
@@ -923,14 +1060,14 @@ mod tests {
 
     #[test]
     fn hud_text_is_drawn_fits_the_width_and_replaces_calibration_instructions() {
-        let snap = FrameSnapshot::at_rest(&Table::standard());
+        let snap = FrameSnapshot::at_rest(&reference_table());
         let (w, h) = (640, 360);
         let bare = build(&snap, Screen::Match, w, h).ui.len();
         let hud = Hud {
             heading: "A VERY LONG INSTRUCTION THAT WOULD NEVER FIT AT THE NORMAL SIZE\nLINE 2"
                 .into(),
             lines: vec!["FIT: RMS 0.31 MM".into()],
-            team_notes: None,
+            ..Hud::default()
         };
         let ui = build_with_hud(&snap, Screen::Match, &hud, w, h).ui;
         assert!(ui.len() > bare);

@@ -13,7 +13,7 @@ use crate::gpu::{
 };
 use crate::image::RgbaImage;
 use crate::scene::{self, Hud, Screen};
-use crate::snapshot::FrameSnapshot;
+use crate::view::FrameSnapshot;
 use crate::{RenderError, Renderer};
 
 /// How frames reach the screen.

@@ -206,7 +206,7 @@ impl Calibrator {
         foosball_render::Hud {
             heading,
             lines,
-            team_notes: None,
+            ..foosball_render::Hud::default()
         }
     }
 }

@@ -77,44 +77,125 @@ pub enum Gesture {
 }
 
 /// Turns rod states into push and spin gestures.
+///
+/// **Push:** counts on the press (the rod moves [`PUSH_DISTANCE_M`] from where it rested,
+/// or faster than [`PUSH_SPEED_M_S`]), and the next push needs a release first: the rod
+/// back near where it rested, or pulled back [`PUSH_DISTANCE_M`] from the furthest point
+/// of the press, and then still. Holding a push (a rod kept at the far stop, Enter held)
+/// is one push however long it lasts, and its return is no second push.
+///
+/// **Spin:** one step per spin, whatever its speed: a turn of [`SPIN_RAD`] from where
+/// the rod last rested counts once, and the next step needs the rod to slow below
+/// [`SPIN_REARM_RAD_S`] first (a fast flick of several turns is one step, not a random
+/// number of them).
 #[derive(Debug, Clone, Default)]
 pub struct Gestures {
-    baseline: Vec<f64>,
-    armed: Vec<bool>,
-    rest: Vec<f64>,
+    rods: Vec<RodGesture>,
 }
 
+/// One rod's gesture state.
+#[derive(Debug, Clone, Copy, Default)]
+struct RodGesture {
+    /// Where the rod rested before the current press, m.
+    home_m: f64,
+    /// A press can count now.
+    armed: bool,
+    /// The press under way: its direction (`±1`) and furthest slide so far, m.
+    pressed: Option<(f64, f64)>,
+    /// The angle a spin is measured from, rad.
+    spin_base_rad: f64,
+    /// A spin can count now.
+    spin_armed: bool,
+}
+
+/// Angular speed below which the next spin can count, rad/s.
+pub const SPIN_REARM_RAD_S: f64 = 1.0;
+
 impl Gestures {
-    /// Forgets the past: the current angles are the baselines, pushes re-arm once the
+    /// Forgets the past: the current poses are where the rods rest; pushes arm once the
     /// rods are still.
     pub fn reset(&mut self, rods: &RodInputs) {
-        self.baseline = rods.rods.iter().map(|r| r.angle_rad).collect();
-        self.rest = rods.rods.iter().map(|r| r.slide_m).collect();
-        self.armed = vec![false; rods.rods.len()];
+        self.rods = rods
+            .rods
+            .iter()
+            .map(|r| RodGesture {
+                home_m: r.slide_m,
+                armed: false,
+                pressed: None,
+                spin_base_rad: r.angle_rad,
+                spin_armed: true,
+            })
+            .collect();
+    }
+
+    /// Disarms every push (a new stage: the push that got here must be released).
+    pub fn disarm(&mut self) {
+        for g in &mut self.rods {
+            g.armed = false;
+        }
     }
 
     /// The gestures in `rods` since the last call.
     pub fn observe(&mut self, rods: &RodInputs) -> Vec<Gesture> {
-        if self.baseline.len() != rods.rods.len() {
+        if self.rods.len() != rods.rods.len() {
             self.reset(rods);
         }
         let mut out = Vec::new();
         if rods.health != InputHealth::Live {
             return out;
         }
-        for (i, r) in rods.rods.iter().enumerate() {
-            let v = r.slide_velocity_m_per_s.abs();
-            let moved = (r.slide_m - self.rest[i]).abs();
-            if self.armed[i] && (v >= PUSH_SPEED_M_S || moved >= PUSH_DISTANCE_M) {
-                self.armed[i] = false;
-                out.push(Gesture::Push(i));
-            } else if v <= REARM_SPEED_M_S {
-                self.armed[i] = true;
-                self.rest[i] = r.slide_m;
+        for (i, (r, g)) in rods.rods.iter().zip(&mut self.rods).enumerate() {
+            if !(r.slide_m.is_finite() && r.slide_velocity_m_per_s.is_finite()) {
+                continue;
             }
-            if (r.angle_rad - self.baseline[i]).abs() >= SPIN_RAD {
-                self.baseline[i] = r.angle_rad;
-                out.push(Gesture::Spin(i));
+            let v = r.slide_velocity_m_per_s;
+            let still = v.abs() <= REARM_SPEED_M_S;
+            let from_home = r.slide_m - g.home_m;
+            match g.pressed {
+                Some((dir, furthest)) => {
+                    let furthest = if dir > 0.0 {
+                        furthest.max(r.slide_m)
+                    } else {
+                        furthest.min(r.slide_m)
+                    };
+                    let back_home = from_home.abs() < 0.5 * PUSH_DISTANCE_M;
+                    let pulled_back = (furthest - r.slide_m) * dir >= PUSH_DISTANCE_M;
+                    if back_home || pulled_back {
+                        // Released: arms again once the rod is still.
+                        g.pressed = None;
+                        g.armed = false;
+                    } else {
+                        g.pressed = Some((dir, furthest));
+                    }
+                }
+                None if g.armed
+                    && (v.abs() >= PUSH_SPEED_M_S || from_home.abs() >= PUSH_DISTANCE_M) =>
+                {
+                    let dir = if from_home.abs() >= 0.25 * PUSH_DISTANCE_M {
+                        from_home.signum()
+                    } else {
+                        v.signum()
+                    };
+                    g.armed = false;
+                    g.pressed = Some((dir, r.slide_m));
+                    out.push(Gesture::Push(i));
+                }
+                None => {}
+            }
+            if g.pressed.is_none() && still {
+                g.armed = true;
+                g.home_m = r.slide_m;
+            }
+            if r.angle_rad.is_finite() && r.angular_velocity_rad_per_s.is_finite() {
+                let turned = (r.angle_rad - g.spin_base_rad).abs();
+                if g.spin_armed && turned >= SPIN_RAD {
+                    g.spin_armed = false;
+                    out.push(Gesture::Spin(i));
+                }
+                if r.angular_velocity_rad_per_s.abs() <= SPIN_REARM_RAD_S {
+                    g.spin_armed = true;
+                    g.spin_base_rad = r.angle_rad;
+                }
             }
         }
         out
@@ -180,7 +261,7 @@ impl Flow {
     pub fn enter(&mut self, stage: Stage, now_s: f64) {
         self.stage = stage;
         self.since_s = now_s;
-        self.gestures.armed.iter_mut().for_each(|a| *a = false);
+        self.gestures.disarm();
     }
 
     fn team_of(&self, rod: usize) -> Side {
@@ -383,5 +464,86 @@ mod tests {
         f.enter(Stage::CharacterSelect, 0.0);
         f.update(SELECT_IDLE_S + 1.0, &still(&table), false);
         assert_eq!(f.stage(), Stage::Attract);
+    }
+
+    /// A rod's state at slide `slide_m` moving at `v` m/s (others still).
+    fn rod_at(table: &Table, rod: usize, slide_m: f64, v: f64) -> RodInputs {
+        inputs(table, |i| RodState {
+            slide_m: if i == rod { slide_m } else { 0.0 },
+            slide_velocity_m_per_s: if i == rod { v } else { 0.0 },
+            ..RodState::default()
+        })
+    }
+
+    #[test]
+    fn holding_the_push_two_seconds_is_one_push_and_a_second_press_starts() {
+        // Enter held on the keyboard: the rod runs to the far stop in 0.1 s, stays
+        // there 2 s, and comes back; then a second press and release.
+        let table = Table::standard();
+        let rod = table.rods_of(Side::Home).next().unwrap();
+        let end = table.rods[rod].half_travel_m();
+        let mut f = Flow::new(&table, 0.0);
+        let dt = 1.0 / 60.0;
+        let mut t = 1.0;
+        f.update(t, &still(&table), false);
+        let press_and_hold = |f: &mut Flow, t: &mut f64, hold_s: f64| -> Vec<Stage> {
+            let mut stages = Vec::new();
+            let v = end / 0.1;
+            let mut run = |f: &mut Flow, t: &mut f64, slide: f64, v: f64| {
+                *t += dt;
+                f.update(*t, &rod_at(&table, rod, slide, v), false);
+                stages.push(f.stage());
+            };
+            for k in 1..=6 {
+                run(f, t, end * k as f64 / 6.0, v);
+            }
+            for _ in 0..(hold_s / dt) as usize {
+                run(f, t, end, 0.0);
+            }
+            for k in (0..6).rev() {
+                run(f, t, end * k as f64 / 6.0, -v);
+            }
+            for _ in 0..30 {
+                run(f, t, 0.0, 0.0);
+            }
+            stages
+        };
+        let stages = press_and_hold(&mut f, &mut t, 2.0);
+        assert_eq!(f.stage(), Stage::CharacterSelect, "{stages:?}");
+        assert!(!stages.contains(&Stage::Playing));
+        // The second press (a short one) starts the match.
+        press_and_hold(&mut f, &mut t, 0.1);
+        assert_eq!(f.stage(), Stage::Playing);
+    }
+
+    #[test]
+    fn a_spin_is_one_step_at_any_speed() {
+        let table = Table::standard();
+        let rod = table.rods_of(Side::Away).next().unwrap();
+        for turns_per_s in [1.0, 5.0, 20.0, 60.0] {
+            let mut g = Gestures::default();
+            g.reset(&still(&table));
+            let w = turns_per_s * std::f64::consts::TAU;
+            // A spin of 0.8 s at that speed seen at 60 frames per second, then still.
+            let mut spins = 0;
+            let mut angle = 0.0;
+            for k in 0..90 {
+                let spinning = k < 48;
+                if spinning {
+                    angle += w / 60.0;
+                }
+                let r = inputs(&table, |i| RodState {
+                    angle_rad: if i == rod { angle } else { 0.0 },
+                    angular_velocity_rad_per_s: if i == rod && spinning { w } else { 0.0 },
+                    ..RodState::default()
+                });
+                spins += g
+                    .observe(&r)
+                    .iter()
+                    .filter(|x| **x == Gesture::Spin(rod))
+                    .count();
+            }
+            assert_eq!(spins, 1, "{turns_per_s} turns/s");
+        }
     }
 }

@@ -22,7 +22,9 @@ use board_link::{Board, BoardError, LinkState, LinkStats};
 use foosball_audio::Sound;
 use foosball_protocol::{InReport, OutReport};
 use foosball_render::scene::PARTICLE_LIFETIME_S;
-use foosball_render::{BallSnapshot, EventKind, FrameSnapshot, Hud, RenderEvent, RodPose, Screen};
+use foosball_render::{
+    BallSnapshot, EventKind, FrameSnapshot, Hud, RenderEvent, RodPose, Screen, TableGeometry,
+};
 use space_foosball::input::calibration::Calibration;
 use space_foosball::input::paddles::{
     BoardInput, InputHealth, RodInputs, MOUSE_PACKET_PREDICTION_MS, PS2_WIRE_LEAD_MS,
@@ -32,6 +34,7 @@ use space_foosball::play::{
 };
 use space_foosball::rules::{Event, Phase, TimedEvent};
 use space_foosball::table::{CharacterType, Table};
+use space_foosball_app::view;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
@@ -115,6 +118,8 @@ pub struct Session {
     latest: Arc<Mutex<RodInputs>>,
     physics: Option<PhysicsThread>,
     match_table: Table,
+    /// The match table as drawn.
+    match_view: TableGeometry,
     controllers: [RodController; 2],
     haptics: Option<KickHaptics>,
     flow: Flow,
@@ -163,6 +168,7 @@ impl Session {
         let mut s = Session {
             flow: Flow::new(&table, 0.0),
             match_table: table.clone(),
+            match_view: view::table_geometry(&table),
             controllers: [RodController::Computer; 2],
             table,
             board,
@@ -212,6 +218,7 @@ impl Session {
     fn run_match(&mut self, config: MatchConfig) -> anyhow::Result<()> {
         self.physics = None; // stops and joins the previous match
         self.match_table = config.table.clone();
+        self.match_view = view::table_geometry(&config.table);
         self.controllers = config.controllers;
         self.haptics = config
             .controllers
@@ -402,7 +409,7 @@ impl Session {
         if stage == Stage::CharacterSelect {
             // The selection screen names the characters from the table it shows.
             for (i, c) in self.flow.characters().into_iter().enumerate() {
-                snapshot.table.characters[i] = c;
+                snapshot.table.characters[i] = view::kind(c);
             }
         }
         let lost = rods.health == InputHealth::BoardLost;
@@ -477,7 +484,7 @@ impl Session {
             velocity: s.ball.velocity,
         };
         FrameSnapshot::posed(
-            &self.match_table,
+            &self.match_view,
             s.time_s,
             &rods,
             ball,
@@ -534,7 +541,7 @@ impl Session {
                     let x = self.match_table.goal_line_x(side.other());
                     self.events.push(RenderEvent {
                         time_s,
-                        kind: EventKind::Goal(side),
+                        kind: EventKind::Goal(view::team(side)),
                         position: [x, 0.0, 0.03],
                         speed: 4.0,
                     });

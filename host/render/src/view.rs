@@ -1,4 +1,5 @@
-//! What the renderer needs per frame, independent of the physics crate.
+//! The view model: everything the renderer draws, as plain values that the game side
+//! fills in. The renderer depends on nothing of the game or the physics.
 //!
 //! # Contract
 //!
@@ -7,15 +8,102 @@
 //! [`FrameSnapshot::interpolate`] between them at its own frame time, so a slow frame
 //! never blocks physics.
 //!
-//! Units and frame are those of [`space_foosball::table`]: metres, seconds, radians;
-//! **table frame** with the origin at the centre of the playing surface, `x` along the
-//! table from the `Home` goal (`−x`) to the `Away` goal (`+x`), `y` across, `z` up.
-//! Orientations are unit quaternions `[x, y, z, w]` rotating box-local vectors into the
+//! Units: metres, seconds, radians. **Table frame**: origin at the centre of the
+//! playing surface, `x` along the table from the [`Team::Home`] goal (`−x`) to the
+//! [`Team::Away`] goal (`+x`), `y` across (Home's handles at `−y`), `z` up.
+//! Orientations are unit quaternions `[x, y, z, w]` rotating man-local vectors into the
 //! table frame.
+//!
+//! The **man frame** of a character: origin on the rod axis at the man's centre, `y`
+//! along the rod, `z` "up the man" (towards the head; the table's `+z` at rod angle 0,
+//! feet down), `x` completing a right-handed frame.
 
 use glam::{DQuat, DVec3};
-use space_foosball::side::Side;
-use space_foosball::table::{CharacterType, Table};
+
+/// A team.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Team {
+    /// Defends the goal at `−x`; its handles are at `−y`.
+    Home,
+    /// Defends the goal at `+x`; its handles are at `+y`.
+    Away,
+}
+
+impl Team {
+    /// Both teams, Home first.
+    pub const BOTH: [Team; 2] = [Team::Home, Team::Away];
+
+    /// `0` for Home, `1` for Away (index into `[home, away]` arrays).
+    pub fn index(self) -> usize {
+        match self {
+            Team::Home => 0,
+            Team::Away => 1,
+        }
+    }
+
+    /// The side of the table its handles are on: `−1` (Home, `−y`) or `+1` (Away).
+    pub fn handle_sign(self) -> f64 {
+        match self {
+            Team::Home => -1.0,
+            Team::Away => 1.0,
+        }
+    }
+
+    /// The `x` direction it attacks in: `+1` for Home, `−1` for Away.
+    pub fn attack_dir(self) -> f64 {
+        -self.handle_sign()
+    }
+
+    /// The other team.
+    pub fn other(self) -> Team {
+        match self {
+            Team::Home => Team::Away,
+            Team::Away => Team::Home,
+        }
+    }
+}
+
+/// The kinds of character a team can be drawn as.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum CharacterKind {
+    /// Long legs, narrow body, a tall helmet: the attacker.
+    TallThin,
+    /// Broad shoulders, short legs, a wide helmet: the defender.
+    ShortWide,
+}
+
+impl CharacterKind {
+    /// Both kinds, in the order of [`TableGeometry::looks`].
+    pub const BOTH: [CharacterKind; 2] = [CharacterKind::TallThin, CharacterKind::ShortWide];
+
+    /// Index into [`TableGeometry::looks`].
+    pub fn index(self) -> usize {
+        match self {
+            CharacterKind::TallThin => 0,
+            CharacterKind::ShortWide => 1,
+        }
+    }
+}
+
+/// How a character kind is shaped, man frame, metres: the renderer composes the head,
+/// the body and the feet from these (the physical shape of a man is the game's).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CharacterLook {
+    /// Which kind this is.
+    pub kind: CharacterKind,
+    /// Width of the body along the rod (`y`), m.
+    pub body_width_m: f64,
+    /// Thickness of the body across the rod (`x`), m.
+    pub body_depth_m: f64,
+    /// Top of the head above the rod axis (`+z`), m.
+    pub head_height_m: f64,
+    /// Shoulder (where the man hangs on the rod) above the rod axis, m.
+    pub shoulder_height_m: f64,
+    /// Rod axis to the sole of the foot (`−z`), m.
+    pub foot_reach_m: f64,
+    /// Width of the foot along the rod (`y`), m.
+    pub foot_width_m: f64,
+}
 
 /// The fixed geometry of a table, as drawn.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,44 +126,38 @@ pub struct TableGeometry {
     pub ball_radius_m: f64,
     /// The rods, in order along `x`.
     pub rods: Vec<RodGeometry>,
-    /// Character type of each team, `[home, away]`.
-    pub characters: [CharacterType; 2],
+    /// Character kind of each team, `[home, away]`.
+    pub characters: [CharacterKind; 2],
+    /// The shape of each kind, indexed by [`CharacterKind::index`] (both are needed:
+    /// the selection screen previews both).
+    pub looks: [CharacterLook; 2],
+    /// Team names as shown, `[home, away]` (upper-case letters and digits draw best).
+    pub team_names: [String; 2],
+}
+
+impl TableGeometry {
+    /// The look of `team`'s characters.
+    pub fn look_of(&self, team: Team) -> &CharacterLook {
+        &self.looks[self.characters[team.index()].index()]
+    }
+
+    /// The `x` of `team`'s goal line (the end it defends), m.
+    pub fn goal_line_x(&self, team: Team) -> f64 {
+        -team.attack_dir() * 0.5 * self.length_m
+    }
 }
 
 /// One rod's fixed geometry.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct RodGeometry {
     /// Axis position along the table, m.
     pub x_m: f64,
     /// The team playing it.
-    pub team: Side,
+    pub team: Team,
     /// Axial travel, m (the slide ranges over `±travel/2`).
     pub travel_m: f64,
-}
-
-impl From<&Table> for TableGeometry {
-    fn from(t: &Table) -> Self {
-        TableGeometry {
-            length_m: t.field.length_m,
-            width_m: t.field.width_m,
-            wall_height_m: t.field.wall_height_m,
-            rod_height_m: t.field.rod_height_m,
-            goal_width_m: t.goal.width_m,
-            goal_height_m: t.goal.height_m,
-            goal_depth_m: t.goal.depth_m,
-            ball_radius_m: t.ball.radius_m(),
-            rods: t
-                .rods
-                .iter()
-                .map(|r| RodGeometry {
-                    x_m: r.x_m,
-                    team: r.team,
-                    travel_m: r.travel_m,
-                })
-                .collect(),
-            characters: [t.teams[0].character, t.teams[1].character],
-        }
-    }
+    /// Each man's centre along the rod at slide 0, m (`y`).
+    pub man_offsets_m: Vec<f64>,
 }
 
 /// A rod's pose: slide along `+y` (m) and angle about `+y` (rad, 0 = feet down).
@@ -87,28 +169,17 @@ pub struct RodPose {
     pub angle_rad: f64,
 }
 
-/// An oriented box in the table frame.
+/// One man (character) on a rod: where his man frame is.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct BoxPose {
-    /// Centre, m.
-    pub center: [f64; 3],
-    /// Half extents along the box's own axes, m.
-    pub half_extents: [f64; 3],
-    /// Orientation, unit quaternion `[x, y, z, w]` (box frame → table frame).
-    pub rotation: [f64; 4],
-}
-
-/// One man (character) on a rod.
-#[derive(Debug, Clone, PartialEq)]
 pub struct ManSnapshot {
     /// Index of its rod in [`TableGeometry::rods`].
     pub rod: usize,
-    /// Its team.
-    pub team: Side,
-    /// Its character type (decides the shape; the boxes carry the actual sizes).
-    pub character: CharacterType,
-    /// The boxes making it up, table frame.
-    pub boxes: Vec<BoxPose>,
+    /// Its team (its look is [`TableGeometry::look_of`] the team).
+    pub team: Team,
+    /// Origin of the man frame (on the rod axis), table frame, m.
+    pub pivot: [f64; 3],
+    /// Orientation of the man frame, unit quaternion `[x, y, z, w]` (man → table).
+    pub rotation: [f64; 4],
 }
 
 /// The ball.
@@ -128,7 +199,7 @@ pub enum EventKind {
     /// The ball bounced off a wall or the field.
     Bounce,
     /// A goal, scored by the given team.
-    Goal(Side),
+    Goal(Team),
 }
 
 /// A recent event, for particle effects.
@@ -153,7 +224,7 @@ pub struct FrameSnapshot {
     pub table: TableGeometry,
     /// Per rod, in the order of [`TableGeometry::rods`].
     pub rods: Vec<RodPose>,
-    /// The men, each with its boxes.
+    /// The men.
     pub men: Vec<ManSnapshot>,
     /// The ball.
     pub ball: BallSnapshot,
@@ -162,83 +233,67 @@ pub struct FrameSnapshot {
     /// Events of the last few seconds (older ones may be dropped by the producer; the
     /// renderer ignores those older than [`crate::scene::PARTICLE_LIFETIME_S`]).
     pub events: Vec<RenderEvent>,
+    /// Rods drawn highlighted (indices into [`TableGeometry::rods`]): the rods the
+    /// players hold, or the rod being calibrated. Out-of-range indices are ignored.
+    pub held_rods: Vec<usize>,
 }
 
 impl FrameSnapshot {
     /// The table at rest: rods centred, men hanging, ball resting on the centre spot.
-    pub fn at_rest(table: &Table) -> Self {
-        let r = table.ball.radius_m();
+    pub fn at_rest(table: &TableGeometry) -> Self {
         let rods = vec![RodPose::default(); table.rods.len()];
-        Self::posed(
-            table,
-            0.0,
-            &rods,
-            BallSnapshot {
-                position: [0.0, 0.0, r],
-                velocity: [0.0; 3],
-            },
-            [0, 0],
-            Vec::new(),
-        )
+        let ball = BallSnapshot {
+            position: [0.0, 0.0, table.ball_radius_m],
+            velocity: [0.0; 3],
+        };
+        Self::posed(table, 0.0, &rods, ball, [0, 0], Vec::new())
     }
 
-    /// A snapshot with rigid men: every man's boxes placed from its rod's pose (a man at
-    /// `offset` along the rod stands at `y = offset + slide`, turned by the rod angle
-    /// about the rod axis). Missing rod poses count as rest.
+    /// A snapshot with rigid men: every man placed from its rod's pose (a man at
+    /// offset `o` along the rod hangs at `y = o + slide`, turned by the rod angle about
+    /// the rod axis). Missing rod poses count as rest.
     pub fn posed(
-        table: &Table,
+        table: &TableGeometry,
         time_s: f64,
         rods: &[RodPose],
         ball: BallSnapshot,
         score: [u32; 2],
         events: Vec<RenderEvent>,
     ) -> Self {
-        let geometry = TableGeometry::from(table);
         let poses: Vec<RodPose> = (0..table.rods.len())
             .map(|i| rods.get(i).copied().unwrap_or_default())
             .collect();
         let mut men = Vec::new();
         for (i, rod) in table.rods.iter().enumerate() {
             let pose = poses[i];
-            let team = table.team(rod.team);
-            let params = table.character_of(i);
-            let rot = DQuat::from_rotation_y(pose.angle_rad);
-            for y in rod.man_positions(pose.slide_m) {
-                let pivot = DVec3::new(rod.x_m, y, table.field.rod_height_m);
-                let boxes = params
-                    .boxes()
-                    .iter()
-                    .map(|b| BoxPose {
-                        center: (pivot + rot * DVec3::from(b.centre)).to_array(),
-                        half_extents: b.half_extents,
-                        rotation: rot.to_array(),
-                    })
-                    .collect();
+            let rotation = DQuat::from_rotation_y(pose.angle_rad).to_array();
+            for &o in &rod.man_offsets_m {
                 men.push(ManSnapshot {
                     rod: i,
                     team: rod.team,
-                    character: team.character,
-                    boxes,
+                    pivot: [rod.x_m, o + pose.slide_m, table.rod_height_m],
+                    rotation,
                 });
             }
         }
         FrameSnapshot {
             time_s,
-            table: geometry,
+            table: table.clone(),
             rods: poses,
             men,
             ball,
             score,
             events,
+            held_rods: Vec::new(),
         }
     }
 
     /// The snapshot between `a` (at `t = 0`) and `b` (at `t = 1`): times, slides,
-    /// angles, box centres and ball position/velocity interpolated linearly, box
+    /// angles, man pivots and ball position/velocity interpolated linearly, man
     /// orientations by slerp. Discrete data (table, score, events, men's identities)
-    /// come from the newer snapshot `b`; if the men of `a` and `b` do not correspond
-    /// (different counts), the men of `b` are used as they are. `t` is clamped to
-    /// `0…1`: the renderer never extrapolates.
+    /// come from the newer snapshot `b`; if the men of `a` and `b` do not correspond,
+    /// the men of `b` are used as they are. `t` is clamped to `0…1`: the renderer never
+    /// extrapolates.
     pub fn interpolate(a: &FrameSnapshot, b: &FrameSnapshot, t: f64) -> FrameSnapshot {
         let t = if t.is_finite() {
             t.clamp(0.0, 1.0)
@@ -258,21 +313,22 @@ impl FrameSnapshot {
             })
             .collect();
         let same_men = a.men.len() == b.men.len()
-            && a.men.iter().zip(&b.men).all(|(ma, mb)| {
-                ma.rod == mb.rod && ma.team == mb.team && ma.boxes.len() == mb.boxes.len()
-            });
+            && a.men
+                .iter()
+                .zip(&b.men)
+                .all(|(ma, mb)| ma.rod == mb.rod && ma.team == mb.team);
         let men = if same_men {
             a.men
                 .iter()
                 .zip(&b.men)
-                .map(|(ma, mb)| ManSnapshot {
-                    boxes: ma
-                        .boxes
-                        .iter()
-                        .zip(&mb.boxes)
-                        .map(|(ba, bb)| interpolate_box(ba, bb, t))
-                        .collect(),
-                    ..mb.clone()
+                .map(|(ma, mb)| {
+                    let qa = DQuat::from_array(ma.rotation).normalize();
+                    let qb = DQuat::from_array(mb.rotation).normalize();
+                    ManSnapshot {
+                        pivot: lerp3(ma.pivot, mb.pivot, t),
+                        rotation: qa.slerp(qb, t).normalize().to_array(),
+                        ..*mb
+                    }
                 })
                 .collect()
         } else {
@@ -289,6 +345,7 @@ impl FrameSnapshot {
             },
             score: b.score,
             events: b.events.clone(),
+            held_rods: b.held_rods.clone(),
         }
     }
 
@@ -305,6 +362,12 @@ impl FrameSnapshot {
     }
 }
 
+/// Where the sole of a man's foot is, table frame, m: `pivot + R · (0, 0, −reach)`.
+pub fn foot_sole(man: &ManSnapshot, look: &CharacterLook) -> [f64; 3] {
+    let q = DQuat::from_array(man.rotation).normalize();
+    (DVec3::from(man.pivot) + q * DVec3::new(0.0, 0.0, -look.foot_reach_m)).to_array()
+}
+
 /// Exact at both ends: `lerp(a, b, 0) == a`, `lerp(a, b, 1) == b`.
 fn lerp(a: f64, b: f64, t: f64) -> f64 {
     a * (1.0 - t) + b * t
@@ -318,19 +381,10 @@ fn lerp3(a: [f64; 3], b: [f64; 3], t: f64) -> [f64; 3] {
     ]
 }
 
-fn interpolate_box(a: &BoxPose, b: &BoxPose, t: f64) -> BoxPose {
-    let qa = DQuat::from_array(a.rotation).normalize();
-    let qb = DQuat::from_array(b.rotation).normalize();
-    BoxPose {
-        center: lerp3(a.center, b.center, t),
-        half_extents: lerp3(a.half_extents, b.half_extents, t),
-        rotation: qa.slerp(qb, t).normalize().to_array(),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fixture::reference_table;
 
     fn ball(p: [f64; 3]) -> BallSnapshot {
         BallSnapshot {
@@ -340,31 +394,29 @@ mod tests {
     }
 
     #[test]
-    fn posed_men_follow_the_table_kinematics() {
-        let t = Table::standard();
+    fn posed_men_follow_the_rods() {
+        let t = reference_table();
         let mut rods = vec![RodPose::default(); t.rods.len()];
         rods[0] = RodPose {
             slide_m: 0.05,
             angle_rad: 0.3,
         };
         let s = FrameSnapshot::posed(&t, 0.0, &rods, ball([0.0, 0.0, 0.02]), [0, 0], vec![]);
-        let men: usize = t.rods.iter().map(|r| r.men).sum();
+        let men: usize = t.rods.iter().map(|r| r.man_offsets_m.len()).sum();
         assert_eq!(s.men.len(), men);
-        // Goalkeeper's leg box: its bottom face centre is the foot sole of the table.
+        // The keeper's sole swings forward with the angle: (x + reach·sin, z − reach·cos).
         let keeper = &s.men[0];
-        let leg = keeper.boxes[1];
-        let q = DQuat::from_array(leg.rotation);
-        let sole = DVec3::from(leg.center) + q * DVec3::new(0.0, 0.0, -leg.half_extents[2]);
-        let (fx, fz) = t.foot_xz(0, 0.3);
-        assert!((sole.x - fx).abs() < 1e-12 && (sole.z - fz).abs() < 1e-12);
-        assert!((sole.y - 0.05).abs() < 1e-12);
-        assert_eq!(s.table.rods.len(), t.rods.len());
-        assert_eq!(s.table.characters, [CharacterType::TallThin; 2]);
+        let look = t.look_of(keeper.team);
+        let sole = foot_sole(keeper, look);
+        let r = look.foot_reach_m;
+        assert!((sole[0] - (t.rods[0].x_m - r * 0.3f64.sin())).abs() < 1e-12);
+        assert!((sole[2] - (t.rod_height_m - r * 0.3f64.cos())).abs() < 1e-12);
+        assert!((sole[1] - 0.05).abs() < 1e-12);
     }
 
     #[test]
     fn interpolation_lerps_positions_and_slerps_orientations() {
-        let t = Table::standard();
+        let t = reference_table();
         let n = t.rods.len();
         let a = FrameSnapshot::posed(
             &t,
@@ -396,7 +448,7 @@ mod tests {
         assert!((m.rods[3].slide_m - 0.02).abs() < 1e-12);
         assert_eq!(m.score, [1, 0]);
         // Orientation halfway: 45° about +y.
-        let q = DQuat::from_array(m.men[0].boxes[0].rotation);
+        let q = DQuat::from_array(m.men[0].rotation);
         let (axis, angle) = q.to_axis_angle();
         assert!((angle - std::f64::consts::FRAC_PI_4).abs() < 1e-9);
         assert!((axis - DVec3::Y).length() < 1e-9);
@@ -411,10 +463,21 @@ mod tests {
 
     #[test]
     fn mismatched_men_take_the_newer_snapshot() {
-        let a = FrameSnapshot::at_rest(&Table::standard());
-        let b = FrameSnapshot::at_rest(&Table::paper());
+        let a = FrameSnapshot::at_rest(&reference_table());
+        let mut small = reference_table();
+        small.rods.truncate(2);
+        let b = FrameSnapshot::at_rest(&small);
         let m = FrameSnapshot::interpolate(&a, &b, 0.5);
         assert_eq!(m.men, b.men);
         assert_eq!(m.table, b.table);
+    }
+
+    #[test]
+    fn teams_and_goal_lines() {
+        let t = reference_table();
+        assert_eq!(t.goal_line_x(Team::Home), -0.5 * t.length_m);
+        assert_eq!(t.goal_line_x(Team::Away), 0.5 * t.length_m);
+        assert_eq!(Team::Home.other(), Team::Away);
+        assert_eq!(t.look_of(Team::Away).kind, t.characters[1]);
     }
 }
