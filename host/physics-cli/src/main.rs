@@ -108,6 +108,9 @@ enum Cmd {
         /// Override the cap on contact stiffness, as a fraction of the substep rate (> 0).
         #[arg(long)]
         hertz_cap: Option<f64>,
+        /// Relax (solve without position bias) only after the last substep, not after each.
+        #[arg(long)]
+        relax_last_only: bool,
     },
     /// Cost of each effect added to a base scene, and of the same effect undeclared.
     Effects {
@@ -133,6 +136,11 @@ enum Cmd {
         /// Only time the free-body step of each integrator (no sweep, nothing written).
         #[arg(long)]
         step_cost: bool,
+        /// Compare the fresh run's errors, drifts and flips (never timings) with the committed
+        /// report in DIR (`accuracy.json`, `accuracy-quick.json`); fails naming each row that
+        /// differs. Writes nothing unless --out is given.
+        #[arg(long, value_name = "DIR")]
+        check: Option<std::path::PathBuf>,
     },
     /// Comparisons with other engines (Pinocchio).
     Peers {
@@ -185,11 +193,12 @@ fn dispatch(cli: Cli) -> Result<()> {
             json,
             out,
             step_cost,
+            check,
         } => {
             if step_cost {
                 accuracy::step_cost(json)
             } else {
-                accuracy::run(quick, json, out)
+                accuracy::run(quick, json, out, check)
             }
         }
         Cmd::Run {
@@ -216,6 +225,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             rigid,
             scalar_contacts,
             hertz_cap,
+            relax_last_only,
         } => run::bench(
             &scene,
             steps,
@@ -226,6 +236,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 rigid,
                 scalar_contacts,
                 hertz_cap,
+                relax_last_only,
             },
         ),
     }

@@ -163,6 +163,8 @@ pub struct SolverOverrides {
     pub scalar_contacts: bool,
     /// Cap on contact stiffness as a fraction of the substep rate.
     pub hertz_cap: Option<f64>,
+    /// Relax only after the last substep.
+    pub relax_last_only: bool,
 }
 
 /// `vphys bench`: ms per step and the drift of the boxes, as one JSON object.
@@ -190,6 +192,9 @@ pub fn bench(
     if overrides.scalar_contacts {
         w.settings.batch_contacts = false;
     }
+    if overrides.relax_last_only {
+        w.settings.relax_each_substep = false;
+    }
     if let Some(cap) = overrides.hertz_cap {
         anyhow::ensure!(
             cap.is_finite() && cap > 0.0,
@@ -213,6 +218,7 @@ pub fn bench(
         "soft_contacts": w.settings.soft_contacts,
         "batch_contacts": w.settings.batch_contacts,
         "contact_hertz_cap": w.settings.contact_hertz_cap,
+        "relax_each_substep": w.settings.relax_each_substep,
     });
     outln!("{out}");
     Ok(())

@@ -2,6 +2,7 @@
 //! table (Markdown and JSON) and the error-vs-cost chart (PNG and SVG).
 
 mod chart;
+mod check;
 mod table;
 
 use std::path::{Path, PathBuf};
@@ -38,29 +39,51 @@ fn default_out(quick: bool) -> PathBuf {
     }
 }
 
-/// `vphys accuracy`.
-pub fn run(quick: bool, json: bool, out: Option<PathBuf>) -> Result<()> {
-    let out = out.unwrap_or_else(|| default_out(quick));
+/// `vphys accuracy`: measures, writes the report (to `out`, or the default folder; with
+/// `check` only when `out` is given) and, with `check`, compares it with the committed report
+/// in that folder, failing when a row differs.
+pub fn run(quick: bool, json: bool, out: Option<PathBuf>, check: Option<PathBuf>) -> Result<()> {
+    let out = match (&check, out) {
+        (_, Some(o)) => Some(o),
+        (None, None) => Some(default_out(quick)),
+        (Some(_), None) => None,
+    };
     let report = measure(quick)?;
-    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
-    let text = serde_json::to_string_pretty(&report)?;
-    write_atomic(&out.join("accuracy.json"), text.as_bytes())?;
-    write_atomic(
-        &out.join("accuracy.md"),
-        table::markdown(&report).as_bytes(),
-    )?;
-    chart::draw(
-        &report,
-        &out.join("accuracy.png"),
-        &out.join("accuracy.svg"),
-    )?;
+    if let Some(out) = &out {
+        write(&report, out)?;
+    }
     if json {
         outln!("{}", serde_json::to_string(&report)?);
     } else {
         outln!("{}", table::summary(&report));
-        outln!("wrote {}/accuracy.{{md,json,png,svg}}", out.display());
+        if let Some(out) = &out {
+            outln!("wrote {}/accuracy.{{md,json,png,svg}}", out.display());
+        }
+    }
+    if let Some(dir) = check {
+        let fresh = serde_json::to_value(&report)?;
+        let outcome = check::check_dir(&fresh, &dir)?;
+        out!("{}", outcome.text);
+        if outcome.differing > 0 {
+            anyhow::bail!(
+                "{} of {} rows differ from the committed report in {}: regenerate it with \
+                 scripts/figures if the change is intended",
+                outcome.differing,
+                outcome.compared,
+                dir.display()
+            );
+        }
     }
     Ok(())
+}
+
+/// Writes the table, the JSON and the chart into `out`.
+fn write(report: &Report, out: &Path) -> Result<()> {
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let text = serde_json::to_string_pretty(report)?;
+    write_atomic(&out.join("accuracy.json"), text.as_bytes())?;
+    write_atomic(&out.join("accuracy.md"), table::markdown(report).as_bytes())?;
+    chart::draw(report, &out.join("accuracy.png"), &out.join("accuracy.svg"))
 }
 
 /// `vphys accuracy --step-cost`: the free-body step of each integrator, timed alone.

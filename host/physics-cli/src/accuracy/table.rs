@@ -43,7 +43,7 @@ pub fn markdown(r: &Report) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "# Accuracy against cost ({} sweep)\n\nRegenerate: `cargo run -p virtual-physics-cli --release -- accuracy{}`.\nEach cell: error / CPU seconds per simulated second (stepping only, this machine).\n",
+        "# Accuracy against cost ({} sweep)\n\nRegenerate: `scripts/figures`, or `cargo run -p virtual-physics-cli --release -- accuracy{}` (the machine of the committed run: `machine.txt`).\nEach cell: error / CPU seconds per simulated second (stepping only, this machine).\n",
         if r.quick { "quick" } else { "full" },
         if r.quick { " --quick" } else { "" }
     );
