@@ -67,6 +67,8 @@ pub struct ArticulatedSystem {
     pub integrator: IntegratorKind,
     /// Collision shapes fixed on links (link frame): such a tree touches the world's bodies.
     pub(crate) link_shapes: Vec<LinkShape>,
+    /// Motors, limits and prescribed coordinates.
+    pub(crate) drives: Vec<super::drives::Drive>,
     qdd: Vec<f64>,
     joints: Vec<(Chart, usize, usize)>,
     // Scratch of the multi-stage integrators (no allocation per step).
@@ -110,6 +112,7 @@ impl ArticulatedSystem {
             tau: vec![0.0; nv],
             integrator: IntegratorKind::default(),
             link_shapes: Vec::new(),
+            drives: Vec::new(),
             qdd: vec![0.0; nv],
             joints,
             q0: vec![0.0; nq],
@@ -494,5 +497,14 @@ impl ArticulatedSystem {
     /// The position stage: `q ← q ⊞ h q̇`.
     pub(crate) fn position_stage(&mut self, h: f64) {
         self.advance_positions(h);
+    }
+
+    /// The configuration coordinate of velocity coordinate `k`, for joints whose coordinates
+    /// move additively (revolute, prismatic, cylindrical, universal); `None` otherwise.
+    pub(crate) fn q_of_dof(&self, k: usize) -> Option<f64> {
+        self.joints.iter().find_map(|&(chart, qo, vo)| match chart {
+            Chart::Additive(n) if (vo..vo + n).contains(&k) => Some(self.q[qo + k - vo]),
+            _ => None,
+        })
     }
 }

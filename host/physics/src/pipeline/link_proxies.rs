@@ -5,15 +5,21 @@ use super::{Proxy, World};
 use crate::algebra::SE3;
 use crate::dynamics::BodyKind;
 use crate::geometry::{Compound, Part, V3};
-use crate::pipeline::Effect;
+use crate::pipeline::articulated::ArticulatedSystem;
+use crate::pipeline::{Effect, Effects};
+
+/// Whether tree `a` steps inside the constraint solve (semi-implicit Euler, substep by
+/// substep): it has drives, or shapes and the `contacts` effect. Other trees step on their
+/// own with the selected integrator.
+pub(super) fn in_solve(effects: Effects, a: &ArticulatedSystem) -> bool {
+    a.has_drives() || (a.has_shapes() && effects.has(Effect::Contacts))
+}
 
 impl World {
-    /// Whether trees are stepped inside the contact solve this step: some tree has shapes,
-    /// and both `articulated` and `contacts` are declared.
+    /// Whether any tree is stepped inside the constraint solve this step.
     pub(super) fn coupled_trees(&self) -> bool {
         self.effects.has(Effect::Articulated)
-            && self.effects.has(Effect::Contacts)
-            && self.articulated.iter().any(|a| a.has_shapes())
+            && self.articulated.iter().any(|a| in_solve(self.effects, a))
     }
 
     /// Adds a kinematic proxy body for every link of tree `t` that carries shapes, named

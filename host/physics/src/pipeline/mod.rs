@@ -10,6 +10,7 @@
 
 pub mod articulated;
 pub mod counters;
+mod drives;
 pub mod effects;
 pub mod integrator;
 pub mod islands;
@@ -17,6 +18,7 @@ mod tree_contacts;
 pub mod world;
 
 pub use counters::{Stage, StepCounters};
+pub use drives::{DriveKind, Motor, Trajectory};
 pub use effects::{Effect, Effects};
 pub use integrator::{FreeForces, FreeIntegrator, IntegratorKind};
 pub use world::{SolverSettings, World};

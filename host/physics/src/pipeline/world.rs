@@ -125,6 +125,8 @@ pub struct World {
     tree_dq: TreeDisplacements,
     /// Per tree, the link poses at the start of the step.
     link_poses: Vec<Vec<crate::algebra::SE3<f64>>>,
+    /// The substep (s) and the time at its end (s), for the drives' rows.
+    substep_clock: (f64, f64),
 }
 
 impl World {
@@ -162,6 +164,7 @@ impl World {
             tree_contacts: TreeContacts::default(),
             tree_dq: Vec::new(),
             link_poses: Vec::new(),
+            substep_clock: (0.0, 0.0),
         }
     }
 
@@ -373,6 +376,11 @@ impl World {
         if !self.tree_contacts.contacts.is_empty() {
             self.counters.mark(Stage::ContactSolve);
         }
+        if coupled {
+            for a in self.articulated.iter_mut() {
+                a.prepare_drives();
+            }
+        }
 
         let hz = self
             .settings
@@ -428,10 +436,14 @@ impl World {
         for sub in 0..n_sub {
             self.integrator
                 .integrate_velocities(&mut self.bodies, h, &forces);
+            self.substep_clock = (h, self.time + (sub + 1) as f64 * h);
             if coupled {
-                for a in self.articulated.iter_mut().filter(|a| a.has_shapes()) {
-                    a.velocity_stage(h)?;
-                    self.counters.articulated_solves += 1;
+                for a in self.articulated.iter_mut() {
+                    if link_proxies::in_solve(eff, a) {
+                        a.velocity_stage(h)?;
+                        a.refresh_drive_responses()?;
+                        self.counters.articulated_solves += 1;
+                    }
                 }
             }
             self.warm_start_contacts();
@@ -459,7 +471,7 @@ impl World {
             self.integrator.integrate_positions(&mut self.bodies, h);
             if coupled {
                 for (a, dq) in self.articulated.iter_mut().zip(&mut self.tree_dq) {
-                    if a.has_shapes() {
+                    if link_proxies::in_solve(eff, a) {
                         a.position_stage(h);
                         for (x, v) in dq.iter_mut().zip(&a.qd) {
                             *x += h * v;
@@ -483,6 +495,11 @@ impl World {
                     relax,
                 );
                 self.counters.solver_iterations += 1;
+            }
+            if coupled {
+                for a in self.articulated.iter_mut() {
+                    a.end_substep_drives();
+                }
             }
             self.counters.substeps += 1;
         }
@@ -533,8 +550,8 @@ impl World {
             self.counters.mark(Stage::Articulated);
             let coupled = self.coupled_trees();
             for a in &mut self.articulated {
-                if coupled && a.has_shapes() {
-                    continue; // stepped inside the contact solve
+                if coupled && link_proxies::in_solve(self.effects, a) {
+                    continue; // stepped inside the constraint solve
                 }
                 for _ in 0..self.settings.substeps.max(1) {
                     a.step(h)?;
@@ -606,6 +623,15 @@ impl World {
                 max_push,
                 pass,
             );
+        }
+        // Drives last: a prescribed coordinate ends each pass exactly on its trajectory.
+        if self.coupled_trees() {
+            let (h, t_end) = self.substep_clock;
+            for a in self.articulated.iter_mut() {
+                if a.has_drives() {
+                    a.solve_drives(h, t_end, soft_static, pass);
+                }
+            }
         }
     }
 
