@@ -5,6 +5,9 @@
 //!
 //! * [`InReport`]: device → host every 1 ms, the motion of all eight paddles since the
 //!   previous report ([`PaddleMotion`]) plus a wrapping sequence number.
+//! * [`InReportV2`]: the same motion plus the device time of the snapshot and, per
+//!   paddle, the age of its newest packet and a dropped-packet count; a host reads
+//!   either version with [`decode_in_report`].
 //! * [`OutReport`]: host → device, a haptic pulse per paddle ([`HapticPulse`]) and the
 //!   status LED.
 //! * [`usb`]: vendor/product ids, endpoint sizes and the HID report descriptor.
@@ -16,11 +19,16 @@
 
 mod error;
 mod in_report;
+mod in_report_v2;
 mod out_report;
 pub mod usb;
 
 pub use error::{DecodeError, EncodeError};
 pub use in_report::{InReport, PaddleMotion, PaddleStatus, IN_REPORT_LEN};
+pub use in_report_v2::{
+    decode_in_report, InReportV2, PacketAge, PaddleTiming, ReportTiming, IN_REPORT_V2_LEN,
+    IN_REPORT_V2_VERSION,
+};
 pub use out_report::{HapticPulse, LedState, OutReport, OUT_REPORT_LEN};
 
 /// Number of paddles (rods) on the cabinet, and so of PS/2 sensors on the board.

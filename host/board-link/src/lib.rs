@@ -53,7 +53,7 @@ mod usb;
 
 use std::time::Duration;
 
-pub use foosball_protocol::{DecodeError, InReport, OutReport};
+pub use foosball_protocol::{DecodeError, InReport, OutReport, ReportTiming};
 pub use receiver::ReportReceiver;
 pub use socket::SocketBoard;
 pub use socket_wire::WireError;
@@ -90,6 +90,13 @@ pub trait Board: Send {
 
     /// Counters: reports received, lost (from sequence gaps), malformed, reconnects.
     fn stats(&self) -> LinkStats;
+
+    /// Timing of the last report when the board sends version 2 reports: the device
+    /// time of its snapshot (µs) and per paddle the age of the newest packet and the
+    /// packets dropped. `None` for a version 1 board (and by default).
+    fn last_timing(&self) -> Option<ReportTiming> {
+        None
+    }
 }
 
 impl<B: Board + ?Sized> Board for Box<B> {
@@ -107,6 +114,9 @@ impl<B: Board + ?Sized> Board for Box<B> {
     }
     fn stats(&self) -> LinkStats {
         (**self).stats()
+    }
+    fn last_timing(&self) -> Option<ReportTiming> {
+        (**self).last_timing()
     }
 }
 

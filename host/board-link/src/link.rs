@@ -4,7 +4,7 @@
 
 use std::time::{Duration, Instant};
 
-use foosball_protocol::{InReport, OutReport};
+use foosball_protocol::{InReport, OutReport, ReportTiming};
 
 use crate::socket_wire::MAX_PAYLOAD;
 use crate::{BoardError, LinkState, LinkStats, ReportReceiver};
@@ -181,6 +181,10 @@ impl<C: Connector, K: Clock> Link<C, K> {
 
     pub(crate) fn stats(&self) -> LinkStats {
         self.receiver.stats()
+    }
+
+    pub(crate) fn last_timing(&self) -> Option<ReportTiming> {
+        self.receiver.last_timing()
     }
 
     pub(crate) fn poll_report(

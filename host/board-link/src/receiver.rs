@@ -1,6 +1,6 @@
 //! Raw report bytes → [`InReport`], with link counters.
 
-use foosball_protocol::InReport;
+use foosball_protocol::{decode_in_report, InReport, ReportTiming};
 
 use crate::{BoardError, LinkStats};
 
@@ -12,6 +12,10 @@ use crate::{BoardError, LinkStats};
 /// duplicate, or a jump of 32768 or more, which cannot be told apart from one within a
 /// `u16`) counts nothing and restarts the expectation from that report.
 ///
+/// Both report versions are read: version 1 (motion only) and version 2 (motion plus
+/// the device time and per-paddle packet ages and drop counts, kept as
+/// [`last_timing`](ReportReceiver::last_timing)).
+///
 /// After a reconnect, call [`ReportReceiver::note_reconnect`]: the board's sequence
 /// carries on (or restarts) independently of what this side saw, so the next report only
 /// re-synchronises the expectation and the jump is not counted as loss.
@@ -21,6 +25,8 @@ pub struct ReportReceiver {
     /// Sequence number the next report should carry; `None` before the first report
     /// and after a reconnect.
     expected: Option<u16>,
+    /// The timing of the last report, if it was version 2.
+    timing: Option<ReportTiming>,
 }
 
 impl ReportReceiver {
@@ -33,7 +39,9 @@ impl ReportReceiver {
     /// [`BoardError::Malformed`] naming the problem; the receiver stays usable, so the
     /// next good report is accepted.
     pub fn accept(&mut self, bytes: &[u8]) -> Result<InReport, BoardError> {
-        let report = InReport::decode(bytes).inspect_err(|_| self.stats.malformed += 1)?;
+        let (report, timing) =
+            decode_in_report(bytes).inspect_err(|_| self.stats.malformed += 1)?;
+        self.timing = timing;
         self.stats.received += 1;
         if let Some(expected) = self.expected {
             let gap = report.sequence.wrapping_sub(expected);
@@ -43,6 +51,12 @@ impl ReportReceiver {
         }
         self.expected = Some(report.sequence.wrapping_add(1));
         Ok(report)
+    }
+
+    /// The device time and per-paddle packet ages and drop counts of the last good
+    /// report, `None` when it was version 1 (or before the first).
+    pub fn last_timing(&self) -> Option<ReportTiming> {
+        self.timing
     }
 
     /// The counters so far.

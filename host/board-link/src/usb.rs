@@ -16,7 +16,7 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 
 use foosball_protocol::usb::{PRODUCT_ID, VENDOR_ID};
-use foosball_protocol::{InReport, OutReport};
+use foosball_protocol::{InReport, OutReport, ReportTiming};
 use rusb::{Context, DeviceHandle, Direction, TransferType, UsbContext};
 
 use crate::link::{Connector, Link, ReportBuf, SystemClock, Transport, TransportError};
@@ -122,6 +122,9 @@ impl Board for UsbBoard {
     }
     fn stats(&self) -> LinkStats {
         self.link.stats()
+    }
+    fn last_timing(&self) -> Option<ReportTiming> {
+        self.link.last_timing()
     }
 }
 

@@ -108,12 +108,21 @@ fn malformed_reports_are_rejected_naming_the_problem_and_play_goes_on() {
         DecodeError::WrongLength { actual: 0, .. }
     ));
 
+    // Version 3 is unknown; version 2 at version 1's length is a short v2 report.
     let mut wrong_version = bytes(2);
-    wrong_version[0] = FORMAT_VERSION + 1;
+    wrong_version[0] = FORMAT_VERSION + 2;
     assert!(matches!(
         expect_malformed(&mut receiver, &wrong_version),
-        DecodeError::UnknownVersion { found, .. } if found == FORMAT_VERSION + 1
+        DecodeError::UnknownVersion { found, .. } if found == FORMAT_VERSION + 2
     ));
+    wrong_version[0] = FORMAT_VERSION + 1;
+    assert_eq!(
+        expect_malformed(&mut receiver, &wrong_version),
+        DecodeError::WrongLength {
+            expected: foosball_protocol::IN_REPORT_V2_LEN,
+            actual: IN_REPORT_LEN
+        }
+    );
 
     let mut bad_status = bytes(2);
     bad_status[3 + 5 * 3 + 4] = 0x80;
@@ -141,7 +150,7 @@ fn malformed_reports_are_rejected_naming_the_problem_and_play_goes_on() {
     };
     assert_eq!(receiver.accept(&good.to_bytes()).unwrap(), good);
     let stats = receiver.stats();
-    assert_eq!((stats.received, stats.malformed, stats.lost), (2, 4, 0));
+    assert_eq!((stats.received, stats.malformed, stats.lost), (2, 5, 0));
 }
 
 proptest! {
@@ -167,4 +176,34 @@ proptest! {
         }
         prop_assert_eq!(receiver.stats().lost, expected_lost);
     }
+}
+
+/// A version 2 board: the motion as from version 1, the timing kept; a version 1
+/// report after it clears the timing (a v1 board reconnected in its place).
+#[test]
+fn reads_version_2_reports_and_keeps_their_timing() {
+    use foosball_protocol::{InReportV2, PacketAge, PaddleTiming, ReportTiming};
+    let mut receiver = ReportReceiver::new();
+    let mut v2 = InReportV2::default();
+    v2.report.sequence = 5;
+    v2.report.paddles[3] = PaddleMotion {
+        axial: 12,
+        rotation: -4,
+        status: PaddleStatus::PRESENT,
+    };
+    v2.timing = ReportTiming {
+        device_time_us: 1_234_567,
+        paddles: [PaddleTiming {
+            newest_packet_age: PacketAge::from_micros(800),
+            dropped: 2,
+        }; 8],
+    };
+    let report = receiver.accept(&v2.to_bytes()).expect("v2 report");
+    assert_eq!(report, v2.report);
+    assert_eq!(receiver.last_timing(), Some(v2.timing));
+    let report = receiver.accept(&bytes(6)).expect("v1 report");
+    assert_eq!(report.sequence, 6);
+    assert_eq!(receiver.last_timing(), None);
+    assert_eq!(receiver.stats().lost, 0);
+    assert_eq!(receiver.stats().malformed, 0);
 }
