@@ -493,4 +493,46 @@ mod api {
             assert!(w.bodies.len() > i);
         }
     }
+
+    /// A three-link chain (articulated), stepped once.
+    fn tree_world() -> World {
+        let model = serde_json::to_string(&virtual_physics::model::builders::chain(3)).unwrap();
+        let text = format!(
+            r#"{{"effects": ["gravity", "articulated"], "articulated": [{{"model": {model}}}]}}"#
+        );
+        let mut w = virtual_physics::scene::SceneFile::from_json(&text)
+            .unwrap()
+            .build()
+            .unwrap();
+        w.step().unwrap();
+        w
+    }
+
+    #[test]
+    fn non_finite_or_huge_tree_state_is_refused() {
+        for (what, index, value) in [
+            ("q", 1, f64::NAN),
+            ("qd", 0, 1e300),
+            ("tau", 2, f64::INFINITY),
+        ] {
+            let mut w = tree_world();
+            let a = &mut w.articulated[0];
+            match what {
+                "q" => a.q[index] = value,
+                "qd" => a.qd[index] = value,
+                _ => a.tau[index] = value,
+            }
+            let time = w.time;
+            let e = w.step().unwrap_err();
+            assert!(
+                matches!(
+                    &e,
+                    DynamicsError::InvalidTree { tree: 0, what: w, index: i, .. }
+                        if *w == what && *i == index
+                ),
+                "{what}: {e}"
+            );
+            assert_eq!(w.time, time, "nothing stepped");
+        }
+    }
 }
