@@ -2,6 +2,10 @@
 //! their boxes in team colours, the ball scaled up as it rises with a shadow blob,
 //! particles on kicks, bounces and goals, the score, and the cabinet's screens.
 //!
+//! "The paper" and its section numbers (§5) refer to Bang, Heo, Kim and Kim, "Space
+//! Foosball: Coupling Tangible Interfaces with a Real-time Game Physics Engine"; what the
+//! project takes from it, section by section, is in docs/paper.md in the repository.
+//!
 //! The renderer draws a view model ([`view`]): a [`FrameSnapshot`] of plain values
 //! (table geometry, teams, character looks, poses) that the program fills in from the
 //! game; this crate depends on neither the game nor the physics; the match thread publishes snapshots and the render thread interpolates
