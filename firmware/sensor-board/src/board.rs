@@ -1,6 +1,8 @@
 //! The whole board: eight mouse ports → one IN report per millisecond.
 
-use foosball_protocol::{InReport, PaddleMotion, PaddleStatus};
+use foosball_protocol::{
+    InReport, InReportV2, PacketAge, PaddleMotion, PaddleStatus, PaddleTiming, ReportTiming,
+};
 
 use crate::mouse::{LineFault, MouseConfig, MouseDriver};
 use crate::paddle::{AxisMap, PaddleAccumulator};
@@ -35,6 +37,8 @@ pub struct SensorBoard {
     config: BoardConfig,
     drivers: [MouseDriver; PORTS],
     accumulators: [PaddleAccumulator; PORTS],
+    /// When each port's newest packet arrived, microseconds (`None`: none yet).
+    last_packet_us: [Option<u64>; PORTS],
     /// Sequence number of the next report.
     sequence: u16,
 }
@@ -45,6 +49,7 @@ impl SensorBoard {
         Self {
             drivers: [const { MouseDriver::new(MouseConfig::DEFAULT) }; PORTS],
             accumulators: [PaddleAccumulator::new(); PORTS],
+            last_packet_us: [None; PORTS],
             sequence: 0,
             config,
         }
@@ -72,6 +77,9 @@ impl SensorBoard {
         };
         if let Some(packet) = driver.on_frame(now_us, frame) {
             accumulator.add_packet(&packet, map);
+            if let Some(last) = self.last_packet_us.get_mut(port) {
+                *last = Some(now_us);
+            }
         }
     }
 
@@ -150,6 +158,34 @@ impl SensorBoard {
         InReport {
             sequence: self.sequence,
             paddles,
+        }
+    }
+
+    /// [`snapshot_report`](Self::snapshot_report) as a version 2 report: the same
+    /// motion plus the device time of the snapshot (`now_us`, wrapping to `u32`) and,
+    /// per paddle, the age of its newest packet and the packets its driver dropped
+    /// (wrapping to `u8`). Commit it with `commit(&report.report)`.
+    pub fn snapshot_report_v2(&mut self, now_us: u64) -> InReportV2 {
+        let report = self.snapshot_report(now_us);
+        let mut paddles = [PaddleTiming::default(); PORTS];
+        for ((timing, driver), last) in paddles
+            .iter_mut()
+            .zip(self.drivers.iter())
+            .zip(self.last_packet_us.iter())
+        {
+            *timing = PaddleTiming {
+                newest_packet_age: last.map_or(PacketAge::NONE, |at| {
+                    PacketAge::from_micros(now_us.saturating_sub(at))
+                }),
+                dropped: driver.stats().dropped as u8,
+            };
+        }
+        InReportV2 {
+            report,
+            timing: ReportTiming {
+                device_time_us: now_us as u32,
+                paddles,
+            },
         }
     }
 

@@ -360,3 +360,34 @@ fn snapshot_commit_removes_only_what_was_sent() {
     assert_eq!((next.paddles[0].axial, next.paddles[0].rotation), (5, 2));
     assert_eq!(next.paddles[0].status, PaddleStatus::PRESENT);
 }
+
+/// The version 2 snapshot: the v1 motion, the device time, each paddle's newest
+/// packet age (none yet: `PacketAge::NONE`) and its dropped count.
+#[test]
+fn v2_snapshot_carries_time_packet_age_and_drops() {
+    use foosball_protocol::PacketAge;
+    let mut bench = Bench::new(BoardConfig::default());
+    bench.bring_up();
+    bench.tick();
+    let packet = MousePacket {
+        dx: 9,
+        ..MousePacket::default()
+    }
+    .to_bytes();
+    let at = bench.now;
+    for byte in packet {
+        bench.board.on_frame(2, at, Ps2Frame::encode(byte));
+    }
+    let report = bench.board.snapshot_report_v2(at + 1_234);
+    assert_eq!(report.report.paddles[2].axial, 9);
+    assert_eq!(report.timing.device_time_us, (at + 1_234) as u32);
+    assert_eq!(
+        report.timing.paddles[2].newest_packet_age.as_micros(),
+        Some(1_200)
+    );
+    assert_eq!(report.timing.paddles[0].newest_packet_age, PacketAge::NONE);
+    assert_eq!(report.timing.paddles[2].dropped, 0);
+    // Committing the v2 snapshot's motion drains it like a v1 report.
+    bench.board.commit(&report.report);
+    assert_eq!(bench.board.take_report(at + 2_000).paddles[2].axial, 0);
+}
