@@ -169,6 +169,17 @@ fn ps2() -> Vec<Seed> {
         .op(4, Op::Report)
         .op(0, Op::Wait(300_000))
         .op(4, Op::Report);
+    let faults = handshake(Script::starting_at(0), 5)
+        .op(5, Op::Packet([0x08, 10, 20]))
+        .op(5, Op::Snapshot(1))
+        .op(5, Op::Packet([0x08, 1, 2]))
+        .op(5, Op::Snapshot(0))
+        .op(5, Op::RxStall)
+        .op(0, Op::Wait(1_000))
+        .op(5, Op::LineFault(0))
+        .op(0, Op::Wait(100_000))
+        .op(6, Op::LineFault(1))
+        .op(5, Op::Report);
     let late = handshake(Script::starting_at(u64::MAX - 2_000_000), 7)
         .op(0, Op::Wait(u64::MAX))
         .op(7, Op::Poll)
@@ -182,6 +193,7 @@ fn ps2() -> Vec<Seed> {
         seed("valid-garbled-frames", garbled.into_bytes()),
         seed("valid-resends", resends.into_bytes()),
         seed("valid-unplugged", unplugged.into_bytes()),
+        seed("valid-snapshots-and-line-faults", faults.into_bytes()),
         seed("edge-time-at-the-end", late.into_bytes()),
         seed(
             "edge-port-9",

@@ -8,7 +8,7 @@
 //! |---|---|---|
 //! | `in-report` | `InReport::decode` | encodes back to the same bytes |
 //! | `out-report` | `OutReport::decode` | encodes back to the same bytes |
-//! | `ps2` | `Ps2Frame`/`HostFrame` decode, `SensorBoard` (8 × `MouseDriver`) fed wire frames, bytes, send outcomes and time | a good frame re-encodes to its bits; every IN report decodes, with consecutive sequence numbers |
+//! | `ps2` | `Ps2Frame`/`HostFrame` decode, `SensorBoard` (8 × `MouseDriver`) fed wire frames, bytes, send outcomes, time, stuck lines, receiver stalls, report snapshots | a good frame re-encodes to its bits; every IN report decodes, with consecutive sequence numbers |
 //! | `socket-frames` | `FrameReader`, any split into reads; IN payloads into `ReportReceiver` | messages re-encode to the bytes consumed; errors are sticky |
 //! | `scene` | `SceneFile::from_json` + `build` | 100 steps: each `Ok` step leaves every body finite |
 //! | `table` | `Table::from_toml` + `Arena::new` | 100 arena steps: every body finite |

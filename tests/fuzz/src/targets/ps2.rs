@@ -3,21 +3,22 @@
 //! The input is an event script (see [`Op`] for the encoding; [`Script`] writes one):
 //! frames with any 11 bits, well-framed bytes (often the replies a mouse gives: `0xFA`,
 //! `0xAA`, `0x00`, `0xFE`, `0xFC`, packet bytes), polls, send outcomes, time jumps (µs,
-//! from any start) and report takes, on any port number (out-of-range ones included).
+//! from any start), stuck lines, receiver stalls, report takes and snapshots (sent or
+//! not), on any port number (out-of-range ones included).
 //! Properties: frame decoding agrees with encoding; the board never panics; every IN
 //! report it builds decodes, says `PRESENT` exactly for the streaming ports, and
 //! sequence numbers go up by one per report.
 
 use super::Verdict;
 use foosball_protocol::{InReport, PaddleStatus};
-use sensor_board::{BoardConfig, HostFrame, Ps2Frame, SendError, SensorBoard};
+use sensor_board::{BoardConfig, HostFrame, LineFault, Ps2Frame, SendError, SensorBoard};
 
 /// Bytes a mouse sends most: ACK, resend, error, self-test passed, device id, and
 /// first bytes of movement packets (bit 3 set).
 const REPLIES: [u8; 7] = [0xFA, 0xFE, 0xFC, 0xAA, 0x00, 0x08, 0x28];
 
 /// One event of a script. Encoding: 8 bytes of start time (µs, little-endian), then
-/// per event an op byte (`% 8` picks the op), a port byte (`% 10`: ports 8 and 9 do
+/// per event an op byte (`% 11` picks the op), a port byte (`% 10`: ports 8 and 9 do
 /// not exist and must be ignored) and the op's fields. Missing bytes read as zero.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Op {
@@ -39,6 +40,12 @@ pub(crate) enum Op {
     Report,
     /// 7: a movement packet, well framed (3 bytes; bit 3 of the first is forced).
     Packet([u8; 3]),
+    /// 8: a line found stuck low: 0 clock, 1 data (1 byte, `% 2`).
+    LineFault(u8),
+    /// 9: the port's receiver overflowed and was restarted.
+    RxStall,
+    /// 10: a report snapshot, committed (sent) when the byte is even (1 byte).
+    Snapshot(u8),
 }
 
 /// Reads little-endian fields off the front of the input; missing bytes are zero.
@@ -80,18 +87,23 @@ impl Script {
             Op::Wait(_) => 5,
             Op::Report => 6,
             Op::Packet(_) => 7,
+            Op::LineFault(_) => 8,
+            Op::RxStall => 9,
+            Op::Snapshot(_) => 10,
         };
         out.extend([code, port]);
         match op {
             Op::Frame(raw) => out.extend(raw.to_le_bytes()),
-            Op::Reply(i) | Op::Byte(i) | Op::Sent(i) => out.push(i),
+            Op::Reply(i) | Op::Byte(i) | Op::Sent(i) | Op::LineFault(i) | Op::Snapshot(i) => {
+                out.push(i)
+            }
             Op::Wait(1_000) => out.push(0),
             Op::Wait(us) => {
                 out.push(3);
                 out.extend(us.to_le_bytes());
             }
             Op::Packet(bytes) => out.extend(bytes),
-            Op::Poll | Op::Report => {}
+            Op::Poll | Op::Report | Op::RxStall => {}
         }
         self
     }
@@ -109,7 +121,7 @@ pub(crate) fn play(input: &[u8]) -> SensorBoard {
     let mut now_us = u64::from_le_bytes(r.bytes());
     let mut next_sequence = board.next_sequence();
     while !r.0.is_empty() {
-        let op = r.u8() % 8;
+        let op = r.u8() % 11;
         let port = usize::from(r.u8() % 10);
         match op {
             0 => {
@@ -154,15 +166,27 @@ pub(crate) fn play(input: &[u8]) -> SensorBoard {
             }
             6 => {
                 let report = board.take_report(now_us);
-                assert_eq!(report.sequence, next_sequence, "report sequence");
+                check_report(&board, &report, next_sequence);
                 next_sequence = next_sequence.wrapping_add(1);
                 assert_eq!(board.next_sequence(), next_sequence, "next sequence");
-                let decoded = InReport::decode(&report.to_bytes());
-                assert_eq!(decoded, Ok(report), "the board's report does not decode");
-                for (p, paddle) in report.paddles.iter().enumerate() {
-                    let present = paddle.status.contains(PaddleStatus::PRESENT);
-                    assert_eq!(present, board.is_present(p), "port {p} presence");
+            }
+            8 => {
+                let fault = if r.u8() % 2 == 0 {
+                    LineFault::ClockStuckLow
+                } else {
+                    LineFault::DataStuckLow
+                };
+                board.on_line_fault(port, now_us, fault);
+            }
+            9 => board.on_rx_stall(port, now_us),
+            10 => {
+                let report = board.snapshot_report(now_us);
+                check_report(&board, &report, next_sequence);
+                if r.u8() % 2 == 0 {
+                    board.commit(&report);
+                    next_sequence = next_sequence.wrapping_add(1);
                 }
+                assert_eq!(board.next_sequence(), next_sequence, "next sequence");
             }
             _ => {
                 let bytes: [u8; 3] = r.bytes();
@@ -178,6 +202,18 @@ pub(crate) fn play(input: &[u8]) -> SensorBoard {
 pub(super) fn run(input: &[u8]) -> Verdict {
     play(input);
     Verdict::Accepted
+}
+
+/// A report the board built: it carries the expected sequence number, decodes, and
+/// says `PRESENT` exactly for the streaming ports.
+fn check_report(board: &SensorBoard, report: &InReport, sequence: u16) {
+    assert_eq!(report.sequence, sequence, "report sequence");
+    let decoded = InReport::decode(&report.to_bytes());
+    assert_eq!(decoded, Ok(*report), "the board's report does not decode");
+    for (p, paddle) in report.paddles.iter().enumerate() {
+        let present = paddle.status.contains(PaddleStatus::PRESENT);
+        assert_eq!(present, board.is_present(p), "port {p} presence");
+    }
 }
 
 /// Decoding and encoding of both frame kinds agree for the raw bits `raw`.
@@ -223,6 +259,18 @@ mod tests {
             .map(|d| d.stats().packets)
             .sum();
         assert_eq!(packets, 20);
+    }
+
+    #[test]
+    fn the_line_fault_seed_makes_its_ports_absent_with_the_reason() {
+        // A stuck line makes the port absent, and the driver names the fault until a
+        // frame arrives again.
+        let board = play(&seed("valid-snapshots-and-line-faults"));
+        assert!(!board.is_present(5));
+        let fault = |p| board.driver(p).and_then(|d| d.line_fault());
+        assert_eq!(fault(5), Some(LineFault::ClockStuckLow));
+        assert_eq!(fault(6), Some(LineFault::DataStuckLow));
+        assert_eq!(board.driver(5).map(|d| d.stats().fifo_stalls), Some(1));
     }
 
     #[test]
