@@ -234,7 +234,8 @@ const REFRESH: Duration = Duration::from_micros(150);
 /// is revoked and replaced by a fresh one every [`REFRESH`] (same sequence number:
 /// it has not been sent), so after a pause the host gets current motion, not motion
 /// from before the pause. A report that was never sent (bus reset, deconfigured) is
-/// never committed, so nothing is lost.
+/// never committed, so nothing is lost; a buffer such an event cleared is armed again
+/// at the next refresh.
 #[embassy_executor::task]
 pub async fn report_in_task(mut writer: ReportWriter) -> ! {
     loop {
@@ -266,7 +267,11 @@ async fn send_reports(writer: &mut ReportWriter) -> Result<(), EndpointError> {
             }
             Either::Second(()) => {
                 due = None;
-                let result = if usb_in_flight::revoke() {
+                let revoked = usb_in_flight::revoke();
+                // Still aborted, so nothing can complete meanwhile: a buffer neither
+                // armed nor taken was cleared by a bus reset or a new configuration.
+                let lost = !revoked && !usb_in_flight::armed() && !usb_in_flight::TAKEN.signaled();
+                let result = if revoked || lost {
                     armed = sensor_loop::snapshot_report();
                     writer.write(&armed.to_bytes()).await
                 } else {

@@ -79,6 +79,14 @@ pub fn revoke() -> bool {
     true
 }
 
+/// Whether the IN buffer is armed (the controller will send it at the next IN token).
+pub fn armed() -> bool {
+    pac::USB_DPRAM
+        .ep_in_buffer_control(IN_ENDPOINT)
+        .read()
+        .available(0)
+}
+
 /// Ends a [`revoke`]: the endpoint answers IN tokens again.
 pub fn release() {
     pac::USB

@@ -221,6 +221,21 @@ export class UsbHost {
     }
   }
 
+  /**
+   * Resets the bus and enumerates again, as a host does after resuming from sleep
+   * or when its driver restarts the device: frames stop, whatever the device had
+   * armed is gone, then the whole enumeration runs (see `enumerate`).
+   */
+  reenumerate(options) {
+    this.stopPolling();
+    this.pendingIn = null;
+    this.outArmed = 0;
+    this.ep0OutArmed = false;
+    this.armedOut.clear();
+    this.resetDone = false;
+    return this.enumerate(options);
+  }
+
   /** Suspends the bus: no more frames (no SOF, no IN tokens); the device sees the
    *  suspend state (SIE_STATUS.SUSPENDED, DEV_SUSPEND interrupt). */
   suspend() {

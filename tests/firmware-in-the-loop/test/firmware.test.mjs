@@ -327,6 +327,27 @@ describe('firmware in the loop', () => {
     assert.equal(rig.haptics[motor].length, edges, 'the pulse does not come back after resume');
   });
 
+  it('reports again after a bus reset and a new enumeration, motion intact', () => {
+    const logFrom = board.log.length;
+    const mouse = mice[1];
+    mouse.move(40, 0);
+    board.runUs(3_000); // the packet is in the board, maybe not yet reported
+    const info = host.reenumerate();
+    assert.equal(info.productId, USB_IDS.productId);
+    const from = host.inReports.length;
+    host.startPolling();
+    board.runUs(30_000);
+    const reports = rig.reports(from);
+    assert.ok(reports.length >= 25, `${reports.length} IN reports in 30 ms after the new enumeration`);
+    reports.forEach((r, i) => i && assert.equal(r.sequence, (reports[i - 1].sequence + 1) & 0xffff));
+    assert.ok(board.logMatching(/USB bus reset: motors stopped/, logFrom).length > 0);
+    const motionFrom = host.inReports.length;
+    mouse.move(-25, 9);
+    board.runUs(30_000);
+    const totals = sums(rig.reports(motionFrom));
+    assert.deepEqual([totals[1].axial, totals[1].rotation], [-25, 9]);
+  });
+
   it('ran without a watchdog reset, a panic or a decode error', () => {
     assert.equal(board.bootedFrom, firmwareUf2Path(), 'booted from the UF2');
     assert.equal(board.watchdogResets, 0);
