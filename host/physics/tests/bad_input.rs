@@ -186,6 +186,21 @@ fn ten_million_boxes_are_refused_while_reading() {
 }
 
 #[test]
+fn compound_parts_count_as_shapes() {
+    // One body whose compound has 10⁵ parts: with the compound itself, one shape over the
+    // limit, refused while counting (before serde builds the parts).
+    let parts = vec![r#"{"shape": {}}"#; 100_000].join(",");
+    let text = format!(
+        r#"{{"effects": [], "bodies": [{{"shape": {{"type": "compound", "parts": [{parts}]}}}}]}}"#
+    );
+    let e = SceneFile::from_json(&text).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "bodies: at least 100001 shapes, more than the limit of 100000"
+    );
+}
+
+#[test]
 fn a_scene_at_the_body_limit_is_read() {
     // The limit itself passes the count (and the scene parses and validates).
     let mut boxes = Boxes::new(1000);

@@ -271,6 +271,16 @@ fn volume(shape: &ShapeDesc) -> Option<f64> {
     })
 }
 
+/// Shapes in a shape: 1, and a compound's parts besides.
+fn shape_count(shape: &ShapeDesc) -> usize {
+    match shape {
+        ShapeDesc::Compound { parts } => {
+            1 + parts.iter().map(|p| shape_count(&p.shape)).sum::<usize>()
+        }
+        _ => 1,
+    }
+}
+
 fn count_problem(path: &str, what: &str, count: usize, limit: usize) -> Problem {
     Problem {
         path: path.into(),
@@ -284,7 +294,12 @@ impl SceneFile {
         let links: usize = self.articulated.iter().map(|a| a.model.bodies.len()).sum();
         let lists = [
             ("bodies", "bodies", self.bodies.len(), limits::BODIES),
-            ("bodies", "shapes", self.bodies.len(), limits::SHAPES),
+            (
+                "bodies",
+                "shapes",
+                self.bodies.iter().map(|b| shape_count(&b.shape)).sum(),
+                limits::SHAPES,
+            ),
             ("joints", "joints", self.joints.len(), limits::JOINTS),
             (
                 "materials",
@@ -787,6 +802,84 @@ struct Top<'a>(&'a mut Counts);
 struct ListSeed<'a>(&'a mut Counts, List);
 struct Entry<'a>(&'a mut Counts, List);
 struct ModelSeed<'a>(&'a mut Counts, usize);
+/// A shape: counts itself, and a compound's parts (each part's `shape`) besides.
+struct ShapeSeed<'a>(&'a mut Counts);
+/// A compound's `parts`.
+struct PartsSeed<'a>(&'a mut Counts);
+/// One part: its `shape`.
+struct PartSeed<'a>(&'a mut Counts);
+
+impl<'de> DeserializeSeed<'de> for ShapeSeed<'_> {
+    type Value = ();
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        self.0.bump(
+            |c| &mut c.shapes,
+            || "bodies".into(),
+            "shapes",
+            limits::SHAPES,
+        )?;
+        d.deserialize_map(self)
+    }
+}
+
+impl<'de> Visitor<'de> for ShapeSeed<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a shape")
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        while let Some(key) = map.next_key::<String>()? {
+            if key == "parts" {
+                map.next_value_seed(PartsSeed(&mut *self.0))?;
+            } else {
+                map.next_value::<IgnoredAny>()?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl<'de> DeserializeSeed<'de> for PartsSeed<'_> {
+    type Value = ();
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for PartsSeed<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a list of parts")
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        while seq.next_element_seed(PartSeed(&mut *self.0))?.is_some() {}
+        Ok(())
+    }
+}
+
+impl<'de> DeserializeSeed<'de> for PartSeed<'_> {
+    type Value = ();
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        d.deserialize_map(self)
+    }
+}
+
+impl<'de> Visitor<'de> for PartSeed<'_> {
+    type Value = ();
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a part")
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        while let Some(key) = map.next_key::<String>()? {
+            if key == "shape" {
+                map.next_value_seed(ShapeSeed(&mut *self.0))?;
+            } else {
+                map.next_value::<IgnoredAny>()?;
+            }
+        }
+        Ok(())
+    }
+}
 
 impl<'de> DeserializeSeed<'de> for Top<'_> {
     type Value = ();
@@ -926,15 +1019,7 @@ impl<'de> Visitor<'de> for Entry<'_> {
         };
         while let Some(key) = map.next_key::<String>()? {
             match (key.as_str(), tree) {
-                ("shape", None) => {
-                    c.bump(
-                        |c| &mut c.shapes,
-                        || "bodies".into(),
-                        "shapes",
-                        limits::SHAPES,
-                    )?;
-                    map.next_value::<IgnoredAny>()?;
-                }
+                ("shape", None) => map.next_value_seed(ShapeSeed(&mut *c))?,
                 ("shapes", None) => map.next_value_seed(ListSeed(&mut *c, List::Shapes))?,
                 ("model", Some(k)) => map.next_value_seed(ModelSeed(&mut *c, k))?,
                 _ => {
