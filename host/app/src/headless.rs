@@ -4,12 +4,18 @@
 //! through the built-in emulated board (lockstep: one 1 ms report per physics step)
 //! following the scripted rod motion (`foosball-sim` motion script JSON) against the
 //! computer. Every event is printed as a JSON line (`{"t_ms":…,"event":"Kick",…}`); the
-//! last line is the final score, exactly `{"event":"MatchOver","score":[a,b]}`.
+//! last line is the final score, exactly `{"event":"MatchOver","score":[a,b]}`. With
+//! `--format text` the lines are readable instead ([`crate::event_text`]); with
+//! `--audio-out FILE.wav` the match's mixed sound is written too.
 
+use crate::event_text;
+use crate::window::session::QUIET_BOUNCE_M_S;
 use anyhow::{bail, Context, Result};
 use board_link::Board;
+use foosball_audio::{mix_timeline, offline::MAX_TIMELINE_S, wav_bytes, Sound};
 use foosball_sim::motion::script::MotionScript;
 use foosball_sim::{BoardConfig, InProcessBoard, Pacing};
+use space_foosball::atomic_file::write_atomic;
 use space_foosball::input::calibration::Calibration;
 use space_foosball::input::paddles::{
     BoardInput, RodInputs, MOUSE_PACKET_PREDICTION_MS, PS2_WIRE_LEAD_MS,
@@ -38,6 +44,37 @@ pub struct HeadlessArgs {
     /// (JSON, see sim/README.md) instead of the computer (headless).
     #[arg(long, value_name = "FILE", requires = "headless")]
     pub script: Option<PathBuf>,
+    /// How events are printed: `json` (one JSON object a line) or `text` (readable
+    /// lines, rounded figures).
+    #[arg(long, value_enum, default_value = "json", requires = "headless")]
+    pub format: Format,
+    /// Also write the match's mixed game sound (kicks, bounces, goal fanfares) to this
+    /// WAV file (16-bit mono, 48 kHz; written to a temporary file, then renamed).
+    #[arg(long, value_name = "FILE.wav", requires = "headless")]
+    pub audio_out: Option<PathBuf>,
+}
+
+/// How headless play prints its events.
+#[derive(clap::ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// One JSON object a line.
+    Json,
+    /// Readable lines with rounded figures.
+    Text,
+}
+
+/// The sound the game plays for an event (as the windowed game does), if any.
+pub fn sound_of(e: &Event) -> Option<Sound> {
+    match *e {
+        Event::Kick { speed, .. } => Some(Sound::Kick {
+            speed_m_s: speed as f32,
+        }),
+        Event::Bounce { speed } if speed >= QUIET_BOUNCE_M_S => Some(Sound::Bounce {
+            speed_m_s: speed as f32,
+        }),
+        Event::Goal { .. } => Some(Sound::GoalFanfare),
+        _ => None,
+    }
 }
 
 /// A table by preset name (`standard`, `paper`) or TOML file.
@@ -111,7 +148,11 @@ pub fn run(args: &HeadlessArgs, table: &str, seed: u64) -> Result<()> {
         }
     };
     config.rules = rules;
+    if let Some(path) = &args.audio_out {
+        check_writable(path)?;
+    }
     let mut m = Match::new(config).context("match")?;
+    let mut cues: Vec<(f64, Sound)> = Vec::new();
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     let mut over = None;
@@ -126,15 +167,58 @@ pub fn run(args: &HeadlessArgs, table: &str, seed: u64) -> Result<()> {
         }
         let inputs = input.next();
         for e in m.step(&inputs) {
-            match e.event {
-                Event::MatchOver { .. } => over = Some(e.event),
-                _ => writeln!(out, "{}", serde_json::to_string(&e)?)?,
+            if let Some(s) = sound_of(&e.event) {
+                cues.push((e.t_ms as f64 / 1000.0, s));
+            }
+            match (e.event, args.format) {
+                (Event::MatchOver { .. }, _) => over = Some(e.event),
+                (_, Format::Json) => writeln!(out, "{}", serde_json::to_string(&e)?)?,
+                (_, Format::Text) => writeln!(out, "{}", event_text::line(&e, &table))?,
             }
         }
     }
     if let Some(event) = over {
-        writeln!(out, "{}", serde_json::to_string(&event)?)?;
+        match (event, args.format) {
+            (Event::MatchOver { score }, Format::Text) => {
+                writeln!(out, "{}", event_text::over_line(score))?
+            }
+            _ => writeln!(out, "{}", serde_json::to_string(&event)?)?,
+        }
     }
     out.flush()?;
+    if let Some(path) = &args.audio_out {
+        let end_s = m.time_ms() as f64 / 1000.0 + f64::from(foosball_audio::synth::GOAL_FANFARE_S);
+        if end_s > MAX_TIMELINE_S {
+            bail!(
+                "the match lasted {end_s:.0} s, longer than the {MAX_TIMELINE_S:.0} s \
+                 --audio-out records"
+            );
+        }
+        let wav = wav_bytes(&mix_timeline(&cues, end_s));
+        write_atomic(path, &wav).with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// Fails early (before the match) when `path` cannot be written: a directory, or in
+/// a directory that does not exist.
+fn check_writable(path: &Path) -> Result<()> {
+    if path.is_dir() {
+        bail!(
+            "--audio-out {} is a directory; give a file name",
+            path.display()
+        );
+    }
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !parent.is_dir() {
+        bail!(
+            "cannot write {}: directory {} does not exist",
+            path.display(),
+            parent.display()
+        );
+    }
     Ok(())
 }

@@ -14,6 +14,7 @@
 //! ```
 
 mod bench;
+mod event_text;
 mod headless;
 mod play;
 mod render_bench;
@@ -47,7 +48,11 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    quiet_vulkan_device_select();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(e),
+    };
     let result = match cli.command {
         Command::Screenshot(args) => screenshot::run(&args),
         Command::Play(args) => play::run(&args),
@@ -56,8 +61,54 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("space-foosball: error: {e:#}");
+            // One line, whatever RUST_BACKTRACE says: `{:#}` is the error with its
+            // causes, never anyhow's backtrace.
+            eprintln!("space-foosball: error: {}", one_line(&format!("{e:#}")));
             ExitCode::FAILURE
         }
+    }
+}
+
+/// A command-line mistake as one line and exit code 1; `--help` and `--version` print
+/// as usual and succeed.
+fn usage_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+        let _ = e.print();
+        return ExitCode::SUCCESS;
+    }
+    if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+        let _ = e.print();
+        return ExitCode::FAILURE;
+    }
+    let text = e.to_string();
+    let first = text
+        .lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty())
+        .unwrap_or("invalid arguments");
+    let first = first.strip_prefix("error: ").unwrap_or(first);
+    eprintln!("space-foosball: error: {} (see --help)", one_line(first));
+    ExitCode::FAILURE
+}
+
+/// `s` with its line breaks folded into spaces.
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// Silences `error: XDG_RUNTIME_DIR is invalid or not set in the environment.`, which
+/// Mesa's Vulkan device-selection layer (`VK_LAYER_MESA_device_select`) prints twice
+/// at every start when there is no Wayland session: it tries to connect to Wayland to
+/// find the default GPU. Without a valid `XDG_RUNTIME_DIR` (and no `WAYLAND_DISPLAY`)
+/// there is no Wayland to ask, so the layer is switched off with its own switch,
+/// `NODEVICE_SELECT=1`; wgpu chooses the adapter itself either way. Runs first in
+/// `main`, before any thread exists.
+fn quiet_vulkan_device_select() {
+    let runtime_ok =
+        std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|d| std::path::Path::new(&d).is_dir());
+    let wayland = std::env::var_os("WAYLAND_DISPLAY").is_some_and(|d| !d.is_empty());
+    if !runtime_ok && !wayland && std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
     }
 }

@@ -239,7 +239,7 @@ fn play_with_an_unreachable_display_fails_clearly() {
 #[test]
 fn play_arguments_are_checked_before_anything_opens() {
     let o = run(&["play", "--board", "serial"]);
-    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("socket:PATH"), "{}", stderr(&o));
     let o = run(&["play", "--width", "10"]);
     assert_eq!(o.status.code(), Some(1));
@@ -249,7 +249,7 @@ fn play_arguments_are_checked_before_anything_opens() {
         stderr(&o)
     );
     let o = run(&["play", "--demo-input", "1:hyperspace"]);
-    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("unknown key"), "{}", stderr(&o));
     let o = run(&[
         "play",

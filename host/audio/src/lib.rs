@@ -13,10 +13,12 @@
 //! ```
 
 mod mixer;
+pub mod offline;
 mod output;
 pub mod synth;
 
 pub use mixer::{Mixer, MAX_VOICES};
+pub use offline::{mix_timeline, wav_bytes};
 pub use output::{AudioOutput, DISABLE_ENV};
 pub use synth::SAMPLE_RATE_HZ;
 

@@ -252,6 +252,11 @@ impl Flow {
         self.characters
     }
 
+    /// When the current stage began, s (the clock of [`Flow::update`]).
+    pub fn since_s(&self) -> f64 {
+        self.since_s
+    }
+
     /// Which teams have joined, `[home, away]`.
     pub fn joined(&self) -> [bool; 2] {
         self.joined

@@ -301,6 +301,18 @@ impl App {
             out.hud
                 .lines
                 .insert(0, format!("KEYBOARD: {team} ROD {rod}"));
+            // The rods in the players' hands glow on the table.
+            if out.stage == Stage::Playing || out.stage == Stage::Calibration {
+                out.snapshot.held_rods.extend(
+                    [self.controls.keyboard_rod(), self.controls.pad_rod()]
+                        .into_iter()
+                        .flatten(),
+                );
+            }
+        } else if out.stage == Stage::Calibration {
+            out.snapshot
+                .held_rods
+                .extend(self.session.calibration_rod());
         }
         for s in &out.sounds {
             self.audio.play(*s);

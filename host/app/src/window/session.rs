@@ -136,6 +136,11 @@ pub struct Session {
     rest: MatchSnapshot,
 }
 
+/// How long the key hints stay fully shown once play starts, s.
+const HINTS_SHOWN_S: f64 = 4.0;
+/// How long they then take to fade out, s.
+const HINTS_FADE_S: f64 = 2.0;
+
 /// The board's input tracker with pose prediction between mouse packets (one packet
 /// period plus the PS/2 wire time ahead), which brings the input-to-rod latency from
 /// about 4.9 ms to about 0.9 ms (`space-foosball bench match`).
@@ -461,6 +466,14 @@ impl Session {
         }
         if matches!(stage, Stage::Attract | Stage::Playing) {
             hud.lines.extend(self.options.key_hints.iter().cloned());
+        }
+        let notice = self.notice.as_ref().is_some_and(|(_, until)| now < *until);
+        if stage == Stage::Playing && !notice {
+            // The key hints fade once play starts: shown 4 s, gone after 6 s (a notice
+            // keeps them all shown).
+            let played = now - self.flow.since_s();
+            hud.lines_opacity =
+                (1.0 - ((played - HINTS_SHOWN_S) / HINTS_FADE_S)).clamp(0.0, 1.0) as f32;
         }
         if let Some((msg, until)) = &self.notice {
             if now < *until {
