@@ -8,7 +8,8 @@
 
 use board_link::socket_wire::Message;
 use foosball_protocol::{
-    HapticPulse, InReport, LedState, OutReport, PaddleMotion, PaddleStatus, PADDLES,
+    HapticPulse, InReport, InReportV2, LedState, OutReport, PacketAge, PaddleMotion, PaddleStatus,
+    PaddleTiming, ReportTiming, PADDLES,
 };
 use foosball_sim::motion::recording::{RecordingFile, Sample, RECORDING_VERSION};
 use foosball_sim::motion::RodPose;
@@ -30,6 +31,7 @@ pub type Seed = (String, Vec<u8>);
 pub fn seeds(target: &str) -> Vec<Seed> {
     match target {
         "in-report" => in_reports(),
+        "in-report-v2" => in_reports_v2(),
         "out-report" => out_reports(),
         "ps2" => ps2(),
         "socket-frames" => socket_frames(),
@@ -78,6 +80,48 @@ fn in_reports() -> Vec<Seed> {
         seed("edge-short", &good[..good.len() - 1]),
         seed("edge-version-2", version_2),
         seed("edge-unknown-status-bit", unknown_status),
+    ]
+}
+
+fn in_reports_v2() -> Vec<Seed> {
+    let mut timing = ReportTiming {
+        device_time_us: 1_234_567,
+        paddles: [PaddleTiming::default(); PADDLES],
+    };
+    for (i, t) in timing.paddles.iter_mut().enumerate() {
+        t.newest_packet_age = PacketAge::from_micros(700 * i as u64);
+        t.dropped = 3 * i as u8;
+    }
+    timing.paddles[7].newest_packet_age = PacketAge::NONE;
+    let v2 = InReportV2 {
+        report: moving_report(9),
+        timing,
+    };
+    let good = v2.to_bytes();
+    let wrapped = InReportV2 {
+        report: InReport::all_present(u16::MAX),
+        timing: ReportTiming {
+            device_time_us: u32::MAX,
+            ..timing
+        },
+    };
+    let mut version_3 = good;
+    version_3[0] = 3;
+    let mut unknown_status = good;
+    unknown_status[11] = 0x80;
+    vec![
+        seed("valid-v2-moving", good),
+        seed("valid-v2-clock-wrap", wrapped.to_bytes()),
+        seed("valid-v2-default", InReportV2::default().to_bytes()),
+        seed("valid-v1-moving", moving_report(7).to_bytes()),
+        seed("edge-v2-short", &good[..good.len() - 1]),
+        seed(
+            "edge-v2-as-v1-length",
+            &good[..foosball_protocol::IN_REPORT_LEN],
+        ),
+        seed("edge-version-3", version_3),
+        seed("edge-v2-unknown-status-bit", unknown_status),
+        seed("edge-empty", Vec::new()),
     ]
 }
 
@@ -218,6 +262,14 @@ fn socket_frames() -> Vec<Seed> {
         Message::in_report(&InReport::all_present(0)),
         Message::in_report(&moving_report(1)),
         Message::in_report(&moving_report(3)),
+        Message::InReport(
+            InReportV2 {
+                report: moving_report(4),
+                timing: ReportTiming::default(),
+            }
+            .to_bytes()
+            .to_vec(),
+        ),
         Message::out_report(&OutReport::default()),
         Message::InReport(vec![1, 2, 3]),
         Message::InReport(vec![0xAB; 64]),

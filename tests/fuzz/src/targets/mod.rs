@@ -7,6 +7,7 @@
 //! | target | code under test | property of an accepted input |
 //! |---|---|---|
 //! | `in-report` | `InReport::decode` | encodes back to the same bytes |
+//! | `in-report-v2` | `decode_in_report` (either version), `InReportV2::decode` | encodes back to the same bytes with its version's encoder; both v2 decoders agree; packet ages read back in whole steps |
 //! | `out-report` | `OutReport::decode` | encodes back to the same bytes |
 //! | `ps2` | `Ps2Frame`/`HostFrame` decode, `SensorBoard` (8 × `MouseDriver`) fed wire frames, bytes, send outcomes, time, stuck lines, receiver stalls, report snapshots | a good frame re-encodes to its bits; every IN report decodes, with consecutive sequence numbers |
 //! | `socket-frames` | `FrameReader`, any split into reads; IN payloads into `ReportReceiver` | messages re-encode to the bytes consumed; errors are sticky |
@@ -65,13 +66,20 @@ pub struct Target {
 }
 
 /// Every target, in the order the runner takes them.
-pub static TARGETS: [Target; 10] = [
+pub static TARGETS: [Target; 11] = [
     Target {
         name: "in-report",
         about: "USB IN report decoder (device → host)",
         format: Format::Bytes,
         run: protocol::in_report,
         max_len: 64,
+    },
+    Target {
+        name: "in-report-v2",
+        about: "USB IN report of either version (v2: device time, packet ages, drops)",
+        format: Format::Bytes,
+        run: protocol::in_report_any,
+        max_len: 128,
     },
     Target {
         name: "out-report",
