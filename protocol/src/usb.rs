@@ -6,7 +6,7 @@
 //! [`VENDOR_ID`]/[`PRODUCT_ID`] here, and update the host's udev rule
 //! (`host/board-link/udev/70-space-foosball.rules`): both ends read these constants.
 
-use crate::{IN_REPORT_LEN, OUT_REPORT_LEN};
+use crate::{IN_REPORT_LEN, IN_REPORT_V2_LEN, OUT_REPORT_LEN};
 
 /// USB vendor id (pid.codes).
 pub const VENDOR_ID: u16 = 0x1209;
@@ -27,8 +27,8 @@ pub const POLL_INTERVAL_MS: u8 = 1;
 pub const VENDOR_USAGE_PAGE: u16 = 0xFF00;
 
 /// HID report descriptor: one vendor-defined application collection with one input
-/// report of [`IN_REPORT_LEN`] bytes and one output report of [`OUT_REPORT_LEN`] bytes,
-/// no report ids.
+/// report of [`IN_REPORT_V2_LEN`] bytes (the board sends version 2 IN reports) and
+/// one output report of [`OUT_REPORT_LEN`] bytes, no report ids.
 #[rustfmt::skip]
 pub const HID_REPORT_DESCRIPTOR: &[u8] = &[
     0x06, 0x00, 0xFF, // Usage Page (Vendor Defined 0xFF00)
@@ -38,7 +38,7 @@ pub const HID_REPORT_DESCRIPTOR: &[u8] = &[
     0x26, 0xFF, 0x00, //   Logical Maximum (255)
     0x75, 0x08, //   Report Size (8 bits)
     0x09, 0x02, //   Usage (Vendor 2: paddle motion)
-    0x95, IN_REPORT_LEN as u8, //   Report Count
+    0x95, IN_REPORT_V2_LEN as u8, //   Report Count
     0x81, 0x02, //   Input (Data, Variable, Absolute)
     0x09, 0x03, //   Usage (Vendor 3: haptics and LED)
     0x95, OUT_REPORT_LEN as u8, //   Report Count
@@ -48,4 +48,5 @@ pub const HID_REPORT_DESCRIPTOR: &[u8] = &[
 
 // Both reports must fit one full-speed interrupt packet.
 const _: () = assert!(IN_REPORT_LEN <= ENDPOINT_MAX_PACKET as usize);
+const _: () = assert!(IN_REPORT_V2_LEN <= ENDPOINT_MAX_PACKET as usize);
 const _: () = assert!(OUT_REPORT_LEN <= ENDPOINT_MAX_PACKET as usize);

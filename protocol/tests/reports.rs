@@ -199,7 +199,7 @@ fn declared_report_sizes(descriptor: &[u8]) -> (usize, usize) {
 fn hid_descriptor_declares_the_report_lengths() {
     assert_eq!(
         declared_report_sizes(HID_REPORT_DESCRIPTOR),
-        (IN_REPORT_LEN, OUT_REPORT_LEN)
+        (IN_REPORT_V2_LEN, OUT_REPORT_LEN)
     );
     // Vendor-defined usage page, so no OS driver claims the board as a mouse.
     assert_eq!(&HID_REPORT_DESCRIPTOR[..3], &[0x06, 0x00, 0xFF]);

@@ -21,7 +21,7 @@ use crate::ps2_device::mouse::{MouseParams, Ps2Mouse};
 use crate::ps2_device::wire::{Wire, WireEvent, WireParams};
 use crate::rng::SimRng;
 use crate::sensor_model::{SensorAxis, SensorModel, SensorParams};
-use foosball_protocol::{InReport, LedState, OutReport, PADDLES};
+use foosball_protocol::{InReport, InReportV2, LedState, OutReport, PADDLES};
 use sensor_board::{AxisMap, BoardConfig as FirmwareConfig, MouseAxis, MouseConfig, SensorBoard};
 
 /// Nanoseconds per microsecond.
@@ -361,15 +361,23 @@ impl EmulatedBoard {
     /// Advances to the next millisecond boundary and returns the IN report the
     /// firmware builds there.
     pub fn step_report(&mut self) -> InReport {
+        self.step_report_v2().report
+    }
+
+    /// [`step_report`](Self::step_report) as the version 2 report the RP2040 binary
+    /// sends over USB: the same motion plus the device time (the emulation's
+    /// microseconds) and per paddle the newest packet's age and the dropped count.
+    pub fn step_report_v2(&mut self) -> InReportV2 {
         let t = self.next_report_ns;
         self.run_until(t);
         let now_us = t / NS_PER_US;
         for port in 0..PADDLES {
             self.poll_port(port);
         }
-        let report = self.firmware.take_report(now_us);
+        let report = self.firmware.snapshot_report_v2(now_us);
+        self.firmware.commit(&report.report);
         self.next_report_ns += REPORT_PERIOD_NS;
-        self.last_report = Some(report);
+        self.last_report = Some(report.report);
         report
     }
 

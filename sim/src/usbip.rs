@@ -36,7 +36,7 @@ use crate::usb_device::{
     EP_OUT,
 };
 use foosball_protocol::usb::{PRODUCT_ID, VENDOR_ID};
-use foosball_protocol::IN_REPORT_LEN;
+use foosball_protocol::IN_REPORT_V2_LEN;
 use std::collections::VecDeque;
 use std::io::{self, Read, Write};
 use std::net::{SocketAddr, TcpListener, TcpStream};
@@ -358,8 +358,8 @@ pub struct UsbIpServer {
     listener: TcpListener,
     conns: Vec<Conn>,
     device: UsbDeviceState,
-    reports: VecDeque<[u8; IN_REPORT_LEN]>,
-    latest: [u8; IN_REPORT_LEN],
+    reports: VecDeque<[u8; IN_REPORT_V2_LEN]>,
+    latest: [u8; IN_REPORT_V2_LEN],
     verbose: bool,
 }
 
@@ -374,7 +374,7 @@ impl UsbIpServer {
             conns: Vec::new(),
             device: UsbDeviceState::new(),
             reports: VecDeque::new(),
-            latest: [0; IN_REPORT_LEN],
+            latest: [0; IN_REPORT_V2_LEN],
             verbose: false,
         })
     }
@@ -410,7 +410,8 @@ impl UsbIpServer {
             let due = pacer.due(Instant::now());
             for _ in 0..due {
                 pacer.emitted();
-                let report = board.step_report().to_bytes();
+                // Version 2, as the RP2040 binary sends (and the descriptor says).
+                let report = board.step_report_v2().to_bytes();
                 self.latest = report;
                 if self.attached().is_some() && self.device.is_configured() {
                     if self.reports.len() == REPORT_QUEUE {

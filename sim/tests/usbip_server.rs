@@ -3,7 +3,7 @@
 //! the kernel module.
 
 use foosball_protocol::usb::{HID_REPORT_DESCRIPTOR, PRODUCT_ID, VENDOR_ID};
-use foosball_protocol::{HapticPulse, InReport, OutReport, IN_REPORT_LEN};
+use foosball_protocol::{HapticPulse, InReportV2, OutReport, IN_REPORT_V2_LEN};
 use foosball_sim::board::{BoardConfig, EmulatedBoard};
 use foosball_sim::motion::Stationary;
 use foosball_sim::usbip::UsbIpServer;
@@ -176,8 +176,8 @@ fn import_enumerate_stream_reports_and_take_out_reports() {
     for seq in 100..150u32 {
         s.write_all(&submit(seq, true, 1, 64, [0; 8], &[])).unwrap();
         let (got, status, data) = ret_submit(&mut s, true);
-        assert_eq!((got, status, data.len()), (seq, 0, IN_REPORT_LEN));
-        let report = InReport::decode(&data).unwrap();
+        assert_eq!((got, status, data.len()), (seq, 0, IN_REPORT_V2_LEN));
+        let report = InReportV2::decode(&data).unwrap().report;
         if let Some(prev) = last {
             assert!(report.sequence > prev, "{} after {prev}", report.sequence);
         }

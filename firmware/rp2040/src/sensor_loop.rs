@@ -13,7 +13,7 @@ use core::cell::RefCell;
 use embassy_sync::blocking_mutex::raw::ThreadModeRawMutex;
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_time::{Duration, Instant, Ticker};
-use foosball_protocol::InReport;
+use foosball_protocol::InReportV2;
 use sensor_board::{BoardConfig, HostFrame, LineFault, SensorBoard, PORTS};
 
 use crate::ps2_pio::{Ps2Event, Ps2Ports};
@@ -118,20 +118,21 @@ fn pass(sensors: &mut Sensors, now_us: u64) {
     }
 }
 
-/// A fresh IN report: one pass over the ports first, then the motion accumulated
-/// since the last [`commit`] (nothing is drained; see [`SensorBoard::snapshot_report`]).
-pub fn snapshot_report() -> InReport {
+/// A fresh version 2 IN report: one pass over the ports first, then the motion
+/// accumulated since the last [`commit`] with the device time and packet ages
+/// (nothing is drained; see [`SensorBoard::snapshot_report_v2`]).
+pub fn snapshot_report() -> InReportV2 {
     SENSORS.lock(|sensors| {
         let mut sensors = sensors.borrow_mut();
         let now = now_us();
         pass(&mut sensors, now);
-        sensors.board.snapshot_report(now)
+        sensors.board.snapshot_report_v2(now)
     })
 }
 
 /// The host received `sent`: its motion leaves the accumulators.
-pub fn commit(sent: &InReport) {
-    SENSORS.lock(|sensors| sensors.borrow_mut().board.commit(sent));
+pub fn commit(sent: &InReportV2) {
+    SENSORS.lock(|sensors| sensors.borrow_mut().board.commit(&sent.report));
 }
 
 /// Services the ports forever, feeding the watchdog after every pass and logging

@@ -1,6 +1,7 @@
 //! USB: a full-speed HID device with one interrupt IN and one interrupt OUT endpoint.
 //!
-//! * IN, every millisecond: the [`InReport`] of the eight paddles, one fresh report
+//! * IN, every millisecond: the version 2 [`InReportV2`] of the eight paddles (motion,
+//!   device time, packet ages, drop counts), one fresh report
 //!   in flight ([`report_in_task`], [`crate::usb_in_flight`]).
 //! * OUT (or a HID SET_REPORT control request): an [`OutReport`] with the haptic
 //!   pulses and the LED state, handed to [`crate::haptics`] and [`crate::led`]. A
@@ -9,7 +10,7 @@
 //! Ids, strings, endpoint size, interval and report descriptor all come from
 //! [`foosball_protocol::usb`], which the host builds too.
 //!
-//! [`InReport`]: foosball_protocol::InReport
+//! [`InReportV2`]: foosball_protocol::InReportV2
 
 use embassy_futures::select::{select, Either};
 use embassy_rp::peripherals::USB;
@@ -26,7 +27,7 @@ use foosball_protocol::usb::{
     ENDPOINT_MAX_PACKET, HID_REPORT_DESCRIPTOR, MANUFACTURER, POLL_INTERVAL_MS, PRODUCT,
     PRODUCT_ID, VENDOR_ID,
 };
-use foosball_protocol::{HapticPulse, LedState, OutReport, IN_REPORT_LEN, PADDLES};
+use foosball_protocol::{HapticPulse, LedState, OutReport, IN_REPORT_V2_LEN, PADDLES};
 use static_cell::StaticCell;
 
 use crate::{haptics, led, sensor_loop, usb_in_flight};
@@ -43,7 +44,7 @@ const OUT_BUF_LEN: usize = ENDPOINT_MAX_PACKET as usize;
 const MAX_POWER_MA: u16 = 100;
 
 /// The writer half of the HID interface (IN endpoint).
-pub type ReportWriter = HidWriter<'static, UsbDriver, IN_REPORT_LEN>;
+pub type ReportWriter = HidWriter<'static, UsbDriver, IN_REPORT_V2_LEN>;
 /// The reader half of the HID interface (OUT endpoint).
 pub type ReportReader = HidReader<'static, UsbDriver, OUT_BUF_LEN>;
 
@@ -97,7 +98,7 @@ impl Usb {
             hid_subclass: HidSubclass::No,
             hid_boot_protocol: HidBootProtocol::None,
         };
-        let hid = HidReaderWriter::<_, OUT_BUF_LEN, IN_REPORT_LEN>::new(
+        let hid = HidReaderWriter::<_, OUT_BUF_LEN, IN_REPORT_V2_LEN>::new(
             &mut builder,
             HID_STATE.init(hid::State::new()),
             hid_config,

@@ -1,8 +1,14 @@
 // The USB report layouts of `protocol/` (foosball-protocol), for the harness.
 
+/** Version of the OUT report (and of the v1 IN report). */
 export const FORMAT_VERSION = 1;
+/** Version of the IN report the firmware sends (`InReportV2`). */
+export const IN_FORMAT_VERSION = 2;
 export const PADDLES = 8;
-export const IN_REPORT_LEN = 3 + 5 * PADDLES; // 43
+/** The v2 IN report: version, sequence, device time (u32 µs), 7 bytes per paddle. */
+export const IN_REPORT_LEN = 7 + 7 * PADDLES; // 63
+/** `PacketAge` steps, µs; 255 = none that recent. */
+export const PACKET_AGE_STEP_US = 100;
 export const OUT_REPORT_LEN = 2 + 2 * PADDLES; // 18
 
 export const STATUS = {
@@ -29,7 +35,10 @@ export const HID_REPORT_DESCRIPTOR = Uint8Array.from([
   0x95, IN_REPORT_LEN, 0x81, 0x02, 0x09, 0x03, 0x95, OUT_REPORT_LEN, 0x91, 0x02, 0xc0,
 ]);
 
-/** Decodes an IN report: { version, sequence, paddles: [{ axial, rotation, status }] }. */
+/**
+ * Decodes a v2 IN report: { version, sequence, deviceTimeUs, paddles: [{ axial,
+ * rotation, status, newestPacketAgeUs (null: none within 25.5 ms), dropped }] }.
+ */
 export function decodeInReport(bytes) {
   if (bytes.length !== IN_REPORT_LEN) {
     throw new Error(`IN report of ${bytes.length} bytes, expected ${IN_REPORT_LEN}`);
@@ -37,14 +46,17 @@ export function decodeInReport(bytes) {
   const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
   const paddles = [];
   for (let i = 0; i < PADDLES; i++) {
-    const at = 3 + 5 * i;
+    const at = 7 + 7 * i;
+    const age = bytes[at + 5];
     paddles.push({
       axial: view.getInt16(at, true),
       rotation: view.getInt16(at + 2, true),
       status: bytes[at + 4],
+      newestPacketAgeUs: age === 255 ? null : age * PACKET_AGE_STEP_US,
+      dropped: bytes[at + 6],
     });
   }
-  return { version: bytes[0], sequence: view.getUint16(1, true), paddles };
+  return { version: bytes[0], sequence: view.getUint16(1, true), deviceTimeUs: view.getUint32(3, true), paddles };
 }
 
 /** Encodes an OUT report: pulses [{ strength, durationMs }] per paddle, LED state. */

@@ -10,6 +10,7 @@ import {
   encodeOutReport,
   FORMAT_VERSION,
   HID_REPORT_DESCRIPTOR,
+  IN_FORMAT_VERSION,
   IN_REPORT_LEN,
   LED,
   OUT_REPORT_LEN,
@@ -139,7 +140,7 @@ describe('firmware in the loop', () => {
     flagged.forEach((p, i) => assert.ok(p.status & STATUS.REINITIALISED, `paddle ${i} REINITIALISED once`));
   });
 
-  it('sends a 43-byte IN report every 1 ms frame with consecutive sequence numbers', () => {
+  it('sends a 63-byte version 2 IN report every 1 ms frame with consecutive sequence numbers and the device time', () => {
     const from = host.inReports.length;
     const frame0 = host.frame;
     board.runUs(50_000);
@@ -149,11 +150,19 @@ describe('firmware in the loop', () => {
     const reports = rig.reports(from);
     for (const [i, r] of reports.entries()) {
       assert.equal(received[i].data.length, IN_REPORT_LEN);
-      assert.equal(r.version, FORMAT_VERSION);
+      assert.equal(r.version, IN_FORMAT_VERSION);
       if (i > 0) {
         assert.equal(r.sequence, (reports[i - 1].sequence + 1) & 0xffff, 'no report lost');
+        // One snapshot per 1 ms polling period, on the board's clock.
+        const step = r.deviceTimeUs - reports[i - 1].deviceTimeUs;
+        assert.ok(step >= 900 && step <= 1100, `device time step ${step} µs`);
       }
+      // The board's clock starts with the emulation: the snapshot is taken shortly
+      // before the host's IN token (the firmware's 150 µs lead, plus the transfer).
+      const lead = r.timeUs - r.deviceTimeUs;
+      assert.ok(lead >= 0 && lead <= 300, `snapshot ${lead.toFixed(0)} µs before the report arrived`);
       r.paddles.forEach((p) => assert.equal(p.status, STATUS.PRESENT, 'present, no error flags'));
+      r.paddles.forEach((p) => assert.equal(p.dropped, 0, 'nothing dropped'));
     }
   });
 
@@ -178,6 +187,16 @@ describe('firmware in the loop', () => {
       board.runUs(7_000);
     });
     board.runUs(40_000);
+    // A report that carries a new packet says how old it was at the snapshot: less
+    // than the time since the previous report (the packet came after that one).
+    for (const r of rig.reports(from)) {
+      r.paddles.forEach((p, i) => {
+        if (p.axial !== 0 || p.rotation !== 0) {
+          assert.notEqual(p.newestPacketAgeUs, null, `paddle ${i}: a packet age`);
+          assert.ok(p.newestPacketAgeUs < 1_100, `paddle ${i}: packet ${p.newestPacketAgeUs} µs old`);
+        }
+      });
+    }
     const totals = sums(rig.reports(from));
     mice.forEach((mouse, p) => {
       assert.deepEqual(mouse.takeSentMotion(), script[p], `mouse ${p} sent its script`);
