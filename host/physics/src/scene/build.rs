@@ -1,13 +1,13 @@
 //! Parsing and building a world from a scene.
 
-use super::format::{BodyKindDesc, PartShapeDesc, SceneFile, ShapeDesc};
+use super::format::{BodyKindDesc, DriveDesc, PartShapeDesc, SceneFile, ShapeDesc, TrajectoryDesc};
 use super::SceneError;
 use crate::algebra::{exp_so3, SE3};
 use crate::dynamics::solver::FreeJoint;
 use crate::dynamics::{BodyKind, BodySet, Material};
 use crate::geometry::{Compound, CompoundError, CompoundMass, PartDesc, Shape, V3};
 use crate::pipeline::articulated::ArticulatedSystem;
-use crate::pipeline::{Effect, Effects, SolverSettings, World};
+use crate::pipeline::{Effect, Effects, Motor, SolverSettings, Trajectory, World};
 
 fn v(a: [f64; 3]) -> V3 {
     V3::new(a[0], a[1], a[2])
@@ -216,9 +216,74 @@ impl SceneFile {
                 tree.set_gravity(g);
                 let q = a.q.clone().unwrap_or_else(|| tree.neutral_configuration());
                 let qd = a.qd.clone().unwrap_or_else(|| vec![0.0; tree.nv()]);
-                world.add_articulated(ArticulatedSystem::new(tree, q, qd));
+                let link = |name: &str| tree.bodies().iter().position(|b| b.name == name);
+                let mut shapes = Vec::new();
+                for ls in &a.shapes {
+                    if let Some(l) = link(&ls.link) {
+                        let pose = SE3::new(exp_so3(&v(ls.rotation)), v(ls.position));
+                        let material = named(&ls.material).unwrap_or_default();
+                        shapes.push((l, ls.shape.shape(), pose, material));
+                    }
+                }
+                let mut drives = Vec::new();
+                for d in &a.drives {
+                    if let Some(l) = link(&d.joint) {
+                        drives.push((tree.bodies()[l].v_offset + d.coordinate, d));
+                    }
+                }
+                let mut sys = ArticulatedSystem::new(tree, q, qd);
+                for (l, shape, pose, material) in shapes {
+                    sys = sys.with_link_shape(l, shape, pose, material);
+                }
+                for (dof, d) in drives {
+                    sys = drive(sys, dof, d);
+                }
+                world.add_articulated(sys);
             }
         }
         Ok(world)
     }
+}
+
+/// Adds the drives a scene states on coordinate `dof`.
+fn drive(mut sys: ArticulatedSystem, dof: usize, d: &DriveDesc) -> ArticulatedSystem {
+    if let Some(m) = &d.motor {
+        sys = sys.with_motor(
+            dof,
+            Motor {
+                target_position: m.target_position,
+                target_velocity: m.target_velocity,
+                stiffness: m.stiffness,
+                damping: m.damping,
+                max_force: m.max_force,
+            },
+        );
+    }
+    if let Some([lower, upper]) = d.limits {
+        sys = sys.with_limits(dof, lower, upper);
+    }
+    if let Some(t) = &d.trajectory {
+        let trajectory = match t {
+            TrajectoryDesc::ConstantVelocity { start, velocity } => Trajectory::ConstantVelocity {
+                start: *start,
+                velocity: *velocity,
+            },
+            TrajectoryDesc::Keyframes { points } => {
+                Trajectory::Keyframes(points.iter().map(|p| (p[0], p[1])).collect())
+            }
+            TrajectoryDesc::Sinusoid {
+                offset,
+                amplitude,
+                frequency,
+                phase,
+            } => Trajectory::Sinusoid {
+                offset: *offset,
+                amplitude: *amplitude,
+                frequency: *frequency,
+                phase: *phase,
+            },
+        };
+        sys = sys.with_prescribed(dof, trajectory);
+    }
+    sys
 }

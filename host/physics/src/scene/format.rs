@@ -289,4 +289,103 @@ pub struct ArticulatedDesc {
     /// Each entry within ±1e4 (m/s or rad/s).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub qd: Option<Vec<f64>>,
+    /// Collision shapes fixed on links (with the `contacts` effect the links touch the
+    /// scene's bodies and other trees' links). Several on one link make it a compound.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub shapes: Vec<LinkShapeDesc>,
+    /// Motors, travel limits and prescribed motion of the joints' coordinates.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub drives: Vec<DriveDesc>,
+}
+
+/// A collision shape on a link of a tree.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinkShapeDesc {
+    /// The link (a body name of the model).
+    pub link: String,
+    /// The shape (a box, sphere, capsule or cylinder), centred on its own frame.
+    pub shape: ShapeDesc,
+    /// Centre of the shape in the link frame (m).
+    #[serde(default)]
+    pub position: [f64; 3],
+    /// Orientation of the shape in the link frame, rotation vector (rad).
+    #[serde(default)]
+    pub rotation: [f64; 3],
+    /// Material name (default material when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<String>,
+}
+
+/// What drives one coordinate of a joint (a revolute, prismatic, cylindrical or universal
+/// joint; give one of `motor`, `limits`, `trajectory`, or `motor` and `limits`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DriveDesc {
+    /// The joint, named by its child link.
+    pub joint: String,
+    /// Which of the joint's coordinates (0 for one-degree-of-freedom joints).
+    #[serde(default)]
+    pub coordinate: usize,
+    /// A PD servo with a force limit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motor: Option<MotorDesc>,
+    /// Travel limits `[lower, upper]` (rad or m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub limits: Option<[f64; 2]>,
+    /// Prescribed motion (a kinematic root or driven joint).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub trajectory: Option<TrajectoryDesc>,
+}
+
+/// A motor: `τ = stiffness (target_position − q) + damping (target_velocity − q̇)`, limited to
+/// `|τ| ≤ max_force`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotorDesc {
+    /// Target position (rad or m); absent: a velocity motor.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target_position: Option<f64>,
+    /// Target velocity (rad/s or m/s).
+    #[serde(default)]
+    pub target_velocity: f64,
+    /// Stiffness (N·m/rad or N/m), 0 … 1e9.
+    #[serde(default)]
+    pub stiffness: f64,
+    /// Damping (N·m·s/rad or N·s/m), 0 … 1e9.
+    #[serde(default)]
+    pub damping: f64,
+    /// Largest force or torque (N or N·m), 0 … 1e9.
+    pub max_force: f64,
+}
+
+/// A trajectory `q*(t)` of a coordinate (rad or m; `t` in s from the scene's start).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TrajectoryDesc {
+    /// `q* = start + velocity t`.
+    ConstantVelocity {
+        /// Start (rad or m).
+        start: f64,
+        /// Velocity (rad/s or m/s).
+        velocity: f64,
+    },
+    /// Piecewise linear through `[t, q]` points with increasing `t`, held outside.
+    Keyframes {
+        /// The points (1 … 10 000).
+        points: Vec<[f64; 2]>,
+    },
+    /// `q* = offset + amplitude sin(2π frequency t + phase)`.
+    Sinusoid {
+        /// Centre (rad or m).
+        #[serde(default)]
+        offset: f64,
+        /// Amplitude (rad or m).
+        amplitude: f64,
+        /// Frequency (Hz), 0 … 1e3.
+        frequency: f64,
+        /// Phase (rad).
+        #[serde(default)]
+        phase: f64,
+    },
 }

@@ -14,8 +14,8 @@ mod validate;
 
 pub use error::{Problem, SceneError};
 pub use format::{
-    ArticulatedDesc, BodyDesc, BodyKindDesc, DampingDesc, JointDesc, MaterialDesc, PartShapeDesc,
-    SceneFile, ShapeDesc, SolverDesc,
+    ArticulatedDesc, BodyDesc, BodyKindDesc, DampingDesc, DriveDesc, JointDesc, LinkShapeDesc,
+    MaterialDesc, MotorDesc, PartShapeDesc, SceneFile, ShapeDesc, SolverDesc, TrajectoryDesc,
 };
 pub use validate::limits;
 

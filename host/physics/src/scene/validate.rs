@@ -732,6 +732,7 @@ impl SceneFile {
                             );
                         }
                     }
+                    tree_extras(&mut r, k, a, &tree, &self.materials);
                 }
             }
         }
@@ -1262,4 +1263,190 @@ fn compound_parts(
         }
     }
     ok
+}
+
+/// Checks a tree's link shapes and drives: links and joints that exist, primitive shapes
+/// with sizes in range, known materials, drives on additive coordinates with finite settings.
+fn tree_extras(
+    r: &mut Report,
+    k: usize,
+    a: &super::format::ArticulatedDesc,
+    tree: &crate::model::ArticulatedTree<f64>,
+    materials: &[super::format::MaterialDesc],
+) {
+    let link = |name: &str| tree.bodies().iter().position(|b| b.name == name);
+    for (i, ls) in a.shapes.iter().enumerate() {
+        let p = format!("articulated[{k}].shapes[{i}]");
+        if link(&ls.link).is_none() {
+            r.add(format!("{p}.link"), format!("no link named '{}'", ls.link));
+        }
+        let sizes: &[f64] = match &ls.shape {
+            ShapeDesc::Box { half_extents } => half_extents,
+            ShapeDesc::Sphere { radius } => std::slice::from_ref(radius),
+            ShapeDesc::Capsule { radius, .. } | ShapeDesc::Cylinder { radius, .. } => {
+                std::slice::from_ref(radius)
+            }
+            ShapeDesc::HalfSpace { .. } | ShapeDesc::Compound { .. } => {
+                r.add(
+                    format!("{p}.shape"),
+                    "a link's shapes are boxes, spheres, capsules or cylinders",
+                );
+                &[]
+            }
+        };
+        for x in sizes {
+            r.range(&format!("{p}.shape"), *x, limits::SIZE_M, "m");
+        }
+        r.coords3(
+            &format!("{p}.position"),
+            &ls.position,
+            limits::PART_OFFSET_M,
+            "m",
+        );
+        r.bounded3(
+            &format!("{p}.rotation"),
+            &ls.rotation,
+            limits::ROTATION_RAD,
+            "rad",
+        );
+        if let Some(m) = &ls.material {
+            if !materials.iter().any(|x| &x.name == m) {
+                r.add(format!("{p}.material"), format!("no material named '{m}'"));
+            }
+        }
+    }
+    for (i, d) in a.drives.iter().enumerate() {
+        let p = format!("articulated[{k}].drives[{i}]");
+        let Some(l) = link(&d.joint) else {
+            r.add(
+                format!("{p}.joint"),
+                format!("no joint (link) named '{}'", d.joint),
+            );
+            continue;
+        };
+        let b = &tree.bodies()[l];
+        if !matches!(
+            b.joint.type_name(),
+            "revolute" | "prismatic" | "cylindrical" | "universal"
+        ) {
+            r.add(
+                format!("{p}.joint"),
+                format!(
+                    "a {} joint cannot be driven: drives act on revolute, prismatic, cylindrical or universal joints",
+                    b.joint.type_name()
+                ),
+            );
+        }
+        if d.coordinate >= b.nv() {
+            r.add(
+                format!("{p}.coordinate"),
+                format!(
+                    "the joint has {} coordinate(s), not {}",
+                    b.nv(),
+                    d.coordinate + 1
+                ),
+            );
+        }
+        if d.motor.is_none() && d.limits.is_none() && d.trajectory.is_none() {
+            r.add(&p, "give 'motor', 'limits' or 'trajectory'");
+        }
+        if d.trajectory.is_some() && (d.motor.is_some() || d.limits.is_some()) {
+            r.add(&p, "a prescribed coordinate takes no motor or limits");
+        }
+        if let Some(m) = &d.motor {
+            for (f, x) in [
+                ("stiffness", m.stiffness),
+                ("damping", m.damping),
+                ("max_force", m.max_force),
+            ] {
+                r.range(&format!("{p}.motor.{f}"), x, (0.0, 1e9), "");
+            }
+            for (f, x) in [
+                ("target_position", m.target_position.unwrap_or(0.0)),
+                ("target_velocity", m.target_velocity),
+            ] {
+                r.range(
+                    &format!("{p}.motor.{f}"),
+                    x,
+                    (-limits::TREE_Q, limits::TREE_Q),
+                    "",
+                );
+            }
+        }
+        if let Some([lo, hi]) = d.limits {
+            if !(lo.is_finite()
+                && hi.is_finite()
+                && lo < hi
+                && lo.abs() <= limits::TREE_Q
+                && hi.abs() <= limits::TREE_Q)
+            {
+                r.add(
+                    format!("{p}.limits"),
+                    format!("must be finite with lower < upper, got [{lo}, {hi}]"),
+                );
+            }
+        }
+        if let Some(t) = &d.trajectory {
+            let tp = format!("{p}.trajectory");
+            match t {
+                super::format::TrajectoryDesc::ConstantVelocity { start, velocity } => {
+                    r.range(
+                        &format!("{tp}.start"),
+                        *start,
+                        (-limits::TREE_Q, limits::TREE_Q),
+                        "",
+                    );
+                    r.range(
+                        &format!("{tp}.velocity"),
+                        *velocity,
+                        (-limits::TREE_QD, limits::TREE_QD),
+                        "",
+                    );
+                }
+                super::format::TrajectoryDesc::Keyframes { points } => {
+                    if points.is_empty() || points.len() > 10_000 {
+                        r.add(
+                            format!("{tp}.points"),
+                            format!("needs 1 … 10000 points, has {}", points.len()),
+                        );
+                    }
+                    let ok = points.iter().all(|p| {
+                        p[0].is_finite() && p[1].is_finite() && p[1].abs() <= limits::TREE_Q
+                    }) && points.windows(2).all(|w| w[0][0] < w[1][0]);
+                    if !ok {
+                        r.add(
+                            format!("{tp}.points"),
+                            "times must increase and every value be finite",
+                        );
+                    }
+                }
+                super::format::TrajectoryDesc::Sinusoid {
+                    offset,
+                    amplitude,
+                    frequency,
+                    phase,
+                } => {
+                    r.range(
+                        &format!("{tp}.offset"),
+                        *offset,
+                        (-limits::TREE_Q, limits::TREE_Q),
+                        "",
+                    );
+                    r.range(
+                        &format!("{tp}.amplitude"),
+                        *amplitude,
+                        (-limits::TREE_Q, limits::TREE_Q),
+                        "",
+                    );
+                    r.range(&format!("{tp}.frequency"), *frequency, (0.0, 1e3), "Hz");
+                    r.range(
+                        &format!("{tp}.phase"),
+                        *phase,
+                        (-limits::ROTATION_RAD, limits::ROTATION_RAD),
+                        "rad",
+                    );
+                }
+            }
+        }
+    }
 }
