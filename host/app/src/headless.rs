@@ -21,7 +21,7 @@ use space_foosball::input::paddles::{
     BoardInput, RodInputs, MOUSE_PACKET_PREDICTION_MS, PS2_WIRE_LEAD_MS,
 };
 use space_foosball::play::{idle_inputs, Match, MatchConfig};
-use space_foosball::rules::{Event, RulesConfig};
+use space_foosball::rules::{Event, RulesConfig, TimedEvent};
 use space_foosball::table::presets;
 use space_foosball::Table;
 use std::io::Write;
@@ -52,6 +52,10 @@ pub struct HeadlessArgs {
     /// WAV file (16-bit mono, 48 kHz; written to a temporary file, then renamed).
     #[arg(long, value_name = "FILE.wav", requires = "headless")]
     pub audio_out: Option<PathBuf>,
+    /// Save the match's recording (seed, table, rules and every step's rod input, JSON)
+    /// to this file, for `space-foosball replay` (about 0.3 MB per second of match).
+    #[arg(long, value_name = "FILE", requires = "headless")]
+    pub record: Option<PathBuf>,
 }
 
 /// How headless play prints its events.
@@ -148,7 +152,7 @@ pub fn run(args: &HeadlessArgs, table: &str, seed: u64) -> Result<()> {
         }
     };
     config.rules = rules;
-    if let Some(path) = &args.audio_out {
+    for path in [&args.audio_out, &args.record].into_iter().flatten() {
         check_writable(path)?;
     }
     let mut m = Match::new(config).context("match")?;
@@ -170,22 +174,21 @@ pub fn run(args: &HeadlessArgs, table: &str, seed: u64) -> Result<()> {
             if let Some(s) = sound_of(&e.event) {
                 cues.push((e.t_ms as f64 / 1000.0, s));
             }
-            match (e.event, args.format) {
-                (Event::MatchOver { .. }, _) => over = Some(e.event),
-                (_, Format::Json) => writeln!(out, "{}", serde_json::to_string(&e)?)?,
-                (_, Format::Text) => writeln!(out, "{}", event_text::line(&e, &table))?,
+            match e.event {
+                Event::MatchOver { .. } => over = Some(e),
+                _ => print_event(&mut out, &e, args.format, &table)?,
             }
         }
     }
-    if let Some(event) = over {
-        match (event, args.format) {
-            (Event::MatchOver { score }, Format::Text) => {
-                writeln!(out, "{}", event_text::over_line(score))?
-            }
-            _ => writeln!(out, "{}", serde_json::to_string(&event)?)?,
-        }
+    if let Some(e) = over {
+        print_event(&mut out, &e, args.format, &table)?;
     }
     out.flush()?;
+    if let Some(path) = &args.record {
+        m.recording()
+            .save(path)
+            .map_err(|e| anyhow::anyhow!("saving the recording: {e}"))?;
+    }
     if let Some(path) = &args.audio_out {
         let end_s = m.time_ms() as f64 / 1000.0 + f64::from(foosball_audio::synth::GOAL_FANFARE_S);
         if end_s > MAX_TIMELINE_S {
@@ -196,6 +199,27 @@ pub fn run(args: &HeadlessArgs, table: &str, seed: u64) -> Result<()> {
         }
         let wav = wav_bytes(&mix_timeline(&cues, end_s));
         write_atomic(path, &wav).with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// Prints one event in `format`: a JSON object or a readable line; the match's end
+/// exactly `{"event":"MatchOver","score":[a,b]}` (no match time) or its text line.
+pub fn print_event(
+    out: &mut impl Write,
+    e: &TimedEvent,
+    format: Format,
+    table: &Table,
+) -> Result<()> {
+    match (e.event, format) {
+        (Event::MatchOver { score }, Format::Text) => {
+            writeln!(out, "{}", event_text::over_line(score))?
+        }
+        (Event::MatchOver { .. }, Format::Json) => {
+            writeln!(out, "{}", serde_json::to_string(&e.event)?)?
+        }
+        (_, Format::Json) => writeln!(out, "{}", serde_json::to_string(e)?)?,
+        (_, Format::Text) => writeln!(out, "{}", event_text::line(e, table))?,
     }
     Ok(())
 }

@@ -11,6 +11,7 @@
 //! space-foosball play --headless [--seed N] [--goals N] [--table standard|paper|FILE] [--script FILE]
 //! space-foosball bench match [--json] [--steps N] [--table standard|paper|FILE]
 //! space-foosball bench render [--frames 120] [--width W --height H]
+//! space-foosball play --headless --record FILE … ; space-foosball replay FILE [--home player] [--format text]
 //! ```
 
 mod bench;
@@ -18,6 +19,7 @@ mod event_text;
 mod headless;
 mod play;
 mod render_bench;
+mod replay;
 mod screenshot;
 mod window;
 
@@ -43,8 +45,12 @@ enum Command {
     /// Play in a window: the rods (or, with no board, keyboard, mouse and gamepad on
     /// the built-in emulated board) against the computer or a second player.
     Play(play::Args),
-    /// Measure the game: `bench match` (µs per physics step, input-to-rod latency).
+    /// Measure the game: `bench match` (µs per physics step, input-to-rod latency),
+    /// `bench render` (frame time).
     Bench(bench::Args),
+    /// Play a recorded match (`play --headless --record FILE`) back headless: the
+    /// recorded match's events again.
+    Replay(replay::Args),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +63,7 @@ fn main() -> ExitCode {
         Command::Screenshot(args) => screenshot::run(&args),
         Command::Play(args) => play::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Replay(args) => replay::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -82,12 +89,14 @@ fn usage_error(e: clap::Error) -> ExitCode {
         return ExitCode::FAILURE;
     }
     let text = e.to_string();
-    let first = text
-        .lines()
-        .map(str::trim)
-        .find(|l| !l.is_empty())
-        .unwrap_or("invalid arguments");
-    let first = first.strip_prefix("error: ").unwrap_or(first);
+    // clap's message up to its usage block, folded onto one line.
+    let message = text.split("Usage:").next().unwrap_or_default().trim();
+    let first = message.strip_prefix("error:").unwrap_or(message).trim();
+    let first = if first.is_empty() {
+        "invalid arguments"
+    } else {
+        first
+    };
     eprintln!("space-foosball: error: {} (see --help)", one_line(first));
     ExitCode::FAILURE
 }

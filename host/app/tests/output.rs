@@ -152,3 +152,63 @@ fn user_errors_are_one_line_without_backtrace_and_exit_1() {
         assert!(!err.contains("backtrace"), "{err}");
     }
 }
+
+#[test]
+fn replay_reproduces_the_recorded_match_events() {
+    let dir = tempfile::tempdir().unwrap();
+    let rec = dir.path().join("match.json");
+    // Home played through the emulated board by a script (every Home rod spinning),
+    // so the recorded input decides the match.
+    let script = dir.path().join("spin.json");
+    let tracks: Vec<String> = [0, 1, 3, 5]
+        .iter()
+        .map(|port| {
+            format!(
+                r#"{{"rod":{port},"segments":[{{"hold":{{"duration_s":1.0}}}},
+                {{"velocity":{{"duration_s":600,"angle_rad_per_s":-12.0}}}}]}}"#
+            )
+        })
+        .collect();
+    std::fs::write(&script, format!(r#"{{"rods":[{}]}}"#, tracks.join(","))).unwrap();
+    let played = run(&[
+        "play",
+        "--headless",
+        "--seed",
+        "2",
+        "--goals",
+        "1",
+        "--script",
+        script.to_str().unwrap(),
+        "--record",
+        rec.to_str().unwrap(),
+    ]);
+    assert!(
+        played.status.success(),
+        "{}",
+        String::from_utf8_lossy(&played.stderr)
+    );
+    let replayed = run(&["replay", rec.to_str().unwrap(), "--home", "player"]);
+    assert!(
+        replayed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&replayed.stderr)
+    );
+    // Event for event, bit for bit (JSON keeps every digit).
+    let (a, b) = (
+        String::from_utf8(played.stdout).unwrap(),
+        String::from_utf8(replayed.stdout).unwrap(),
+    );
+    assert!(a.lines().count() > 10);
+    assert_eq!(a, b);
+    // A file that is not a recording: one line, exit 1.
+    std::fs::write(&rec, "{\"seed\": 1}").unwrap();
+    let bad = run(&["replay", rec.to_str().unwrap()]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&bad.stderr)
+            .trim_end()
+            .lines()
+            .count(),
+        1
+    );
+}
