@@ -298,3 +298,130 @@ fn the_chain_on_boxes_scene_settles() {
         assert!(p.p.z > 0.0, "link {i} at z = {} m", p.p.z);
     }
 }
+
+/// A 3-link arm hinged about `y` (links of 0.3, 0.3 and 0.2 m, 0.5 kg each, centres at
+/// mid-length) holds its first two joints level with stiff servos, and its last servo, limited
+/// to 2 N·m, turns the frictionless tip (a 2 cm sphere) down onto a 1 kg box on the ground. At
+/// static equilibrium the last link is level on the box, so about its joint
+/// `F · 0.2 m = τ_max + m₃ g · 0.1 m`, and the ground carries the box's weight plus `F`.
+#[test]
+fn an_arm_whose_motors_press_a_box_onto_the_ground_reaches_static_equilibrium() {
+    use virtual_physics::pipeline::Motor;
+    let (m_link, tau_max, m_box) = (0.5, 2.0, 1.0);
+    let lengths = [0.3, 0.3, 0.2];
+    let tip = 0.02;
+    let half = V3::repeat(0.05);
+    let mut tree = ArticulatedTree::new(Vec3::new(0.0, 0.0, -G));
+    let base = Vec3::new(0.0, 0.0, 2.0 * half.z + tip);
+    for (k, &len) in lengths.iter().enumerate() {
+        let inertia = Inertia::from_com(
+            m_link,
+            Vec3::new(0.5 * len, 0.0, 0.0),
+            box_inertia(m_link, V3::new(0.5 * len, 0.01, 0.01)),
+        );
+        let (parent, placement) = if k == 0 {
+            (None, SE3::from_translation(base))
+        } else {
+            (
+                Some(k - 1),
+                SE3::from_translation(Vec3::new(lengths[k - 1], 0.0, 0.0)),
+            )
+        };
+        tree.add_body(
+            format!("link{k}"),
+            parent,
+            placement,
+            Revolute::new(Vec3::y()),
+            inertia,
+        )
+        .unwrap();
+    }
+    let hold = Motor {
+        target_position: Some(0.0),
+        target_velocity: 0.0,
+        stiffness: 1e4,
+        damping: 100.0,
+        max_force: 1e3,
+    };
+    let press = Motor {
+        target_position: Some(0.5),
+        max_force: tau_max,
+        ..hold
+    };
+    let frictionless = Material {
+        friction: 0.0,
+        ..Material::default()
+    };
+    let sys = ArticulatedSystem::new(tree, vec![0.0; 3], vec![0.0; 3])
+        .with_motor(0, hold)
+        .with_motor(1, hold)
+        .with_motor(2, press)
+        .with_link_shape(
+            2,
+            Shape::Sphere { radius: tip },
+            SE3::from_translation(Vec3::new(lengths[2], 0.0, 0.0)),
+            frictionless,
+        );
+    let mut bodies = with_ground();
+    let reach: f64 = lengths.iter().sum();
+    let bx = bodies.push(
+        "box".into(),
+        BodyKind::Dynamic,
+        Shape::Cuboid { half },
+        // Grips the ground; against the frictionless tip the pair has no friction.
+        Material::default(),
+        m_box,
+        V3::new(reach, 0.0, half.z),
+        M3::identity(),
+        V3::zeros(),
+        V3::zeros(),
+    );
+    let effects = [
+        Effect::Gravity,
+        Effect::Contacts,
+        Effect::Friction,
+        Effect::Articulated,
+    ];
+    let dt = 1e-3;
+    let mut w = world(bodies, &effects, dt);
+    w.add_articulated(sys);
+    for _ in 0..1500 {
+        w.step().expect("finite");
+    }
+    // Static: over the last half second the tip and the box move less than the contacts'
+    // allowed overlap (0.1 mm, the linear slop), as the soft contacts finish settling.
+    let tip_of = |w: &World| {
+        let p = &w.articulated[0].link_poses()[2];
+        p.transform_point(&Vec3::new(lengths[2], 0.0, 0.0))
+    };
+    let tip_before = tip_of(&w);
+    let box_before = w.bodies.pos[bx];
+    for _ in 0..500 {
+        w.step().expect("finite");
+    }
+    // Normal impulses are per substep: force = impulse / substep.
+    let h = dt / SolverSettings::default().substeps as f64;
+    let force_on = |body: usize| -> f64 {
+        w.manifolds()
+            .iter()
+            .filter(|m| m.a == 0 && m.b as usize == body)
+            .flat_map(|m| m.points().iter().map(|p| p.normal_impulse))
+            .sum::<f64>()
+            / h
+    };
+    let push = (tau_max + m_link * G * 0.5 * lengths[2]) / lengths[2];
+    let expected = m_box * G + push;
+    let ground = force_on(bx);
+    assert!(
+        ((ground - expected) / expected).abs() < 0.01,
+        "ground carries {ground} N, expected {expected} N (weight {} N + push {push} N)",
+        m_box * G
+    );
+    let a = &w.articulated[0];
+    let moved = (tip_of(&w) - tip_before).norm();
+    assert!(moved < 1e-4, "the tip moved {moved} m in 0.5 s");
+    let box_moved = w.bodies.pos[bx] - box_before;
+    assert!(box_moved.norm() < 1e-4, "the box moved {box_moved:?}");
+    // The last servo is at its limit, pressing.
+    assert!((a.drive_force(2, dt) - tau_max).abs() < 1e-6 * tau_max);
+}
