@@ -301,13 +301,20 @@ impl App {
             out.hud
                 .lines
                 .insert(0, format!("KEYBOARD: {team} ROD {rod}"));
-            // The rods in the players' hands glow on the table.
-            if out.stage == Stage::Playing || out.stage == Stage::Calibration {
-                out.snapshot.held_rods.extend(
-                    [self.controls.keyboard_rod(), self.controls.pad_rod()]
-                        .into_iter()
-                        .flatten(),
-                );
+            // The rods in the players' hands glow on the table: the keyboard's, and the
+            // gamepad's when one is plugged in, of teams a person plays.
+            if out.stage == Stage::Playing {
+                let players = self.session.controllers();
+                let pad_rod = pad.and(self.controls.pad_rod());
+                let held = [self.controls.keyboard_rod(), pad_rod]
+                    .into_iter()
+                    .flatten();
+                let rods = &self.options.table.rods;
+                out.snapshot.held_rods.extend(held.filter(|&r| {
+                    rods.get(r).is_some_and(|rod| {
+                        players[rod.team.index()] == space_foosball::play::RodController::Player
+                    })
+                }));
             }
         } else if out.stage == Stage::Calibration {
             out.snapshot
