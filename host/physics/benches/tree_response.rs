@@ -25,8 +25,16 @@ fn bench(c: &mut Criterion) {
         let mut out = vec![0.0; nv];
         g.bench_function(format!("aba_row/{n}"), |b| {
             b.iter(|| {
-                aba(&tree, &mut ws, black_box(&q), &zero, black_box(&tau), None, &mut out)
-                    .expect("aba");
+                aba(
+                    &tree,
+                    &mut ws,
+                    black_box(&q),
+                    &zero,
+                    black_box(&tau),
+                    None,
+                    &mut out,
+                )
+                .expect("aba");
                 black_box(out[0])
             })
         });

@@ -22,8 +22,8 @@ mod rnea;
 pub mod solver;
 mod workspace;
 
-pub use aba::aba;
 pub use crate::geometry::Material;
+pub use aba::aba;
 pub use body_set::{BodyKind, BodySet};
 pub use crba::mass_matrix;
 pub use error::DynamicsError;

@@ -170,8 +170,7 @@ impl BroadPhase {
 
     #[inline]
     fn wanted(bodies: &CollisionBodies<'_>, a: usize, b: usize) -> bool {
-        (bodies.responds[a] || bodies.responds[b])
-            && (bodies.awake[a] || bodies.awake[b])
+        (bodies.responds[a] || bodies.responds[b]) && (bodies.awake[a] || bodies.awake[b])
     }
 
     #[inline]
