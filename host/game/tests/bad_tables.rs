@@ -1,5 +1,5 @@
 //! Tables that once passed validation and then broke the physics (an allocation without
-//! bound, a NaN ball, millions of bodies): each is refused with an error that names the
+//! bound, a NaN ball or corner wall, millions of bodies): each is refused with an error that names the
 //! field, the value and the range. Every file in `tests/bad_tables/` is one of them.
 
 use std::path::PathBuf;
@@ -33,6 +33,10 @@ const EXPECTED: &[(&str, &str)] = &[
         "field.length_m must be within 0.3 … 5, got -1.2",
     ),
     ("million-men-on-a-rod", "rod 0: 1000000 men, must be 1 … 11"),
+    (
+        "corner-ramp-5e-324",
+        "field.corner_ramp_m (0 for no ramp) must be within 0.001 … 0.35, got 5e-324",
+    ),
     (
         "million-men-on-a-700-km-table",
         "field.width_m must be within 0.2 … 3, got 7e5",

@@ -176,6 +176,8 @@ mod ranges {
     pub const FIELD_LENGTH_M: (f64, f64) = (0.3, 5.0);
     /// Field width (m).
     pub const FIELD_WIDTH_M: (f64, f64) = (0.2, 3.0);
+    /// Shortest corner ramp (m), when there is one.
+    pub const MIN_RAMP_M: f64 = 1e-3;
     /// Wall height (m).
     pub const WALL_HEIGHT_M: (f64, f64) = (0.01, 1.0);
     /// Rod height above the field (m).
@@ -233,6 +235,16 @@ impl Table {
             0.5 * f.width_m.min(f.length_m),
             "within 0…half the smaller field size",
         )?;
+        // A ramp is absent (0) or at least a millimetre: its slope is height / length, and a
+        // subnormal length (5e-324 m) made the ramp's normal NaN.
+        if f.corner_ramp_m > 0.0 && f.corner_ramp_m < ranges::MIN_RAMP_M {
+            return Err(TableError::OutOfRange {
+                what: "field.corner_ramp_m (0 for no ramp)".into(),
+                value: f.corner_ramp_m,
+                lo: ranges::MIN_RAMP_M,
+                hi: 0.5 * f.width_m.min(f.length_m),
+            });
+        }
         in_range(
             "field.corner_ramp_height_m",
             f.corner_ramp_height_m,
