@@ -27,6 +27,7 @@ mod accuracy;
 mod bodies;
 mod effects;
 mod exit;
+mod multibody_peer;
 mod parry_peer;
 mod peers;
 mod rapier_peer;

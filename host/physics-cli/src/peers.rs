@@ -43,6 +43,20 @@ pub enum PeersCmd {
         #[arg(long, num_args = 1.., default_values_t = ["towers-1120".to_string(), "pyramid-1240".to_string()])]
         scenes: Vec<String>,
     },
+    /// An articulated tree in contact (a chain falling onto boxes) in our engine and in
+    /// rapier3d's multibodies (feature `rapier-peer`): ms per step and the deepest ground
+    /// penetration.
+    Multibody {
+        /// One JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Steps (default: the scene's, 600).
+        #[arg(long)]
+        steps: Option<u64>,
+        /// Scene file (a tree of revolute joints on a free root, with link shapes).
+        #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../physics/scenes/chain-on-boxes.json"))]
+        scene: String,
+    },
     /// Box–box manifold cost: ours against parry3d's (feature `rapier-peer`).
     Parry {
         /// One JSON object instead of a table.
@@ -174,6 +188,9 @@ pub fn run(cmd: PeersCmd) -> Result<()> {
             steps,
             scenes,
         } => crate::rapier_peer::run(&scenes, steps, json)?,
+        PeersCmd::Multibody { json, steps, scene } => {
+            crate::multibody_peer::run(&scene, steps, json)?
+        }
         PeersCmd::Parry { json } => crate::parry_peer::run(json)?,
         PeersCmd::Aba { json, py } => {
             py.check()?;
