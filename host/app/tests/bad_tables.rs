@@ -29,7 +29,11 @@ fn every_bad_table_file_ends_the_program_with_one_line_and_status_1() {
         assert_eq!(out.status.code(), Some(1), "{}: {err}", file.display());
         let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
         assert_eq!(lines.len(), 1, "{}: one line, got {err}", file.display());
-        assert!(lines[0].contains("error: table file"), "{}: {err}", file.display());
+        assert!(
+            lines[0].contains("error: table file"),
+            "{}: {err}",
+            file.display()
+        );
         assert!(!err.contains("panicked") && !err.contains("stack backtrace"));
         assert!(out.stdout.is_empty(), "{}: nothing played", file.display());
     }
