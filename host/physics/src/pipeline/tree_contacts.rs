@@ -186,12 +186,12 @@ impl TreeContacts {
             normal: n,
             tangents,
             friction: if settings.friction {
-                (ma.friction * mb.friction).sqrt()
+                ma.pair_friction(&mb)
             } else {
                 0.0
             },
             restitution: if settings.restitution {
-                ma.restitution.max(mb.restitution)
+                ma.pair_restitution(&mb)
             } else {
                 0.0
             },

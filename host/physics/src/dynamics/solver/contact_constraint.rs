@@ -220,12 +220,12 @@ impl ContactConstraint {
             ia,
             ib,
             friction: if settings.friction {
-                (ma.friction * mb.friction).sqrt()
+                ma.pair_friction(mb)
             } else {
                 0.0
             },
             restitution: if settings.restitution {
-                ma.restitution.max(mb.restitution)
+                ma.pair_restitution(mb)
             } else {
                 0.0
             },
