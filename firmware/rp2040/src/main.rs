@@ -11,6 +11,7 @@
 #![no_std]
 #![no_main]
 
+mod board_flash;
 mod haptics;
 mod led;
 mod panic;
@@ -51,7 +52,9 @@ async fn main(spawner: Spawner) {
         board.ps2,
     );
     let haptics = haptics::Haptics::new(board.haptics);
-    let usb = usb_hid::Usb::new(usb::Driver::new(board.usb, Irqs));
+    let mut flash = board_flash::open(board.flash);
+    let serial = board_flash::serial_number(&mut flash);
+    let usb = usb_hid::Usb::new(usb::Driver::new(board.usb, Irqs), serial);
 
     spawner.spawn(unwrap!(sensor_loop::sensor_task(ports, watchdog)));
     spawner.spawn(unwrap!(haptics::haptics_task(haptics)));

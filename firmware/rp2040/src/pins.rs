@@ -23,9 +23,10 @@
 //! be consecutive, data first.
 
 use embassy_rp::peripherals::{
-    PIN_0, PIN_1, PIN_10, PIN_11, PIN_12, PIN_13, PIN_14, PIN_15, PIN_16, PIN_17, PIN_18, PIN_19,
-    PIN_2, PIN_20, PIN_21, PIN_22, PIN_25, PIN_28, PIN_3, PIN_4, PIN_5, PIN_6, PIN_7, PIN_8, PIN_9,
-    PIO0, PIO1, PWM_SLICE0, PWM_SLICE1, PWM_SLICE2, PWM_SLICE3, PWM_SLICE6, USB, WATCHDOG,
+    FLASH, PIN_0, PIN_1, PIN_10, PIN_11, PIN_12, PIN_13, PIN_14, PIN_15, PIN_16, PIN_17, PIN_18,
+    PIN_19, PIN_2, PIN_20, PIN_21, PIN_22, PIN_25, PIN_28, PIN_3, PIN_4, PIN_5, PIN_6, PIN_7,
+    PIN_8, PIN_9, PIO0, PIO1, PWM_SLICE0, PWM_SLICE1, PWM_SLICE2, PWM_SLICE3, PWM_SLICE6, USB,
+    WATCHDOG,
 };
 use embassy_rp::{Peri, Peripherals};
 
@@ -106,6 +107,8 @@ pub struct Board {
     pub usb: Peri<'static, USB>,
     /// Watchdog.
     pub watchdog: Peri<'static, WATCHDOG>,
+    /// The QSPI flash (its unique id; the configuration sector).
+    pub flash: Peri<'static, FLASH>,
 }
 
 impl Board {
@@ -134,6 +137,7 @@ impl Board {
             led: p.PIN_25,
             usb: p.USB,
             watchdog: p.WATCHDOG,
+            flash: p.FLASH,
         }
     }
 }

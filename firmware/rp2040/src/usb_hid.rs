@@ -59,11 +59,13 @@ pub struct Usb {
 }
 
 impl Usb {
-    /// Builds the device: descriptors, the HID interface and its endpoints.
-    pub fn new(driver: UsbDriver) -> Self {
+    /// Builds the device: descriptors (with `serial` as the serial number string),
+    /// the HID interface and its endpoints.
+    pub fn new(driver: UsbDriver, serial: &'static str) -> Self {
         let mut config = embassy_usb::Config::new(VENDOR_ID, PRODUCT_ID);
         config.manufacturer = Some(MANUFACTURER);
         config.product = Some(PRODUCT);
+        config.serial_number = Some(serial);
         // A plain USB 2.0 device (no BOS descriptor); the class is declared by the
         // interface, so no interface association descriptor either.
         config.bcd_usb = UsbVersion::Two;

@@ -11,6 +11,7 @@ import { RP2040, ConsoleLogger, LogLevel } from 'rp2040js';
 import { Elf } from './elf.mjs';
 import { DefmtDecoder, defmtTable } from './defmt.mjs';
 import { readUf2 } from './uf2.mjs';
+import { installBootRom } from './boot-rom.mjs';
 
 export const FLASH_BASE = 0x10000000;
 const RAM_BASE = 0x20000000;
@@ -21,15 +22,21 @@ const RTT_POLL_NS = 100_000;
  *  the longest gap between two looks at whether a machine got enabled. */
 const PIO_IDLE_CHECK_NS = 1000;
 
+/** The flash unique id the emulated board has unless told otherwise. */
+export const DEFAULT_UNIQUE_ID = [0xe6, 0x60, 0x58, 0x38, 0x83, 0x4b, 0x21, 0x2f];
+
 export class Board {
   /**
    * @param {string} elfPath the firmware ELF
    * @param {{ onLog?: (msg: {level: string, text: string, timeUs: number}) => void,
-   *           uf2Path?: string }} options
+   *           uf2Path?: string, uniqueId?: number[], flashImage?: Uint8Array }} options
    *   uf2Path: flash comes from this UF2 (checked block by block, `readUf2`), as the
    *   bootrom would write it; the ELF then only gives the symbols (RTT, defmt)
+   *   uniqueId: the flash chip's 8-byte unique id (the USB serial number)
+   *   flashImage: the whole flash as another board left it (a power cycle: what the
+   *   firmware wrote survives); replaces the UF2's and the ELF's image
    */
-  constructor(elfPath, { onLog, uf2Path } = {}) {
+  constructor(elfPath, { onLog, uf2Path, uniqueId = DEFAULT_UNIQUE_ID, flashImage } = {}) {
     this.elf = new Elf(new Uint8Array(readFileSync(elfPath)));
     const rp = new RP2040();
     this.rp = rp;
@@ -66,6 +73,12 @@ export class Board {
         throw new Error(`ELF segment at 0x${address.toString(16)} is outside flash and RAM`);
       }
     }
+
+    if (flashImage) {
+      rp.flash.set(flashImage);
+    }
+    // The ROM functions and the flash chip's unique id (`boot-rom.mjs`).
+    this.rom = installBootRom(this, { uniqueId });
 
     // Boot as the bootrom would hand over to boot2: boot2 runs from the start of
     // flash with the stack at the top of RAM and LR = 0 ("vector into flash":

@@ -37,15 +37,19 @@ export function firmwareUf2Path(elfPath = firmwareElfPath()) {
 
 /**
  * @param {{ elfPath?: string, uf2Path?: string, printLog?: boolean,
- *           mouse?: (port: number) => object }} options
+ *           mouse?: (port: number) => object, uniqueId?: number[],
+ *           flashImage?: Uint8Array }} options
  *   mouse: extra `Ps2Mouse` options per port (clock, timing, sample clock)
  *   uf2Path: boot from this UF2's flash image (the ELF still gives the symbols)
+ *   uniqueId, flashImage: see `Board`
  */
 export function createRig({
   elfPath = firmwareElfPath(),
   uf2Path,
   printLog = process.env.FITL_LOG !== '0',
   mouse = () => ({}),
+  uniqueId,
+  flashImage,
 } = {}) {
   if (!existsSync(elfPath)) {
     throw new Error(
@@ -58,6 +62,8 @@ export function createRig({
   }
   const board = new Board(elfPath, {
     uf2Path,
+    uniqueId,
+    flashImage,
     onLog: printLog
       ? (m) => console.log(`[fw ${(m.timeUs / 1000).toFixed(3).padStart(9)} ms] ${m.level.padEnd(5)} ${m.text}`)
       : undefined,

@@ -355,6 +355,7 @@ export class UsbHost {
     };
     info.manufacturer = string(info.iManufacturer);
     info.product = string(info.iProduct);
+    info.serial = string(info.iSerial);
 
     const hid = info.configuration.interfaces.find((i) => i.class === 3);
     if (!hid) {

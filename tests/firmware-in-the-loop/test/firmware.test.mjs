@@ -6,6 +6,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { createRig, firmwareUf2Path, HAPTIC_GPIO, LED_GPIO, REPO_ROOT } from '../lib/rig.mjs';
+import { DEFAULT_UNIQUE_ID } from '../lib/board.mjs';
 import {
   encodeOutReport,
   FORMAT_VERSION,
@@ -99,6 +100,10 @@ describe('firmware in the loop', () => {
     assert.equal(info.maxPacket0, 64);
     assert.equal(info.manufacturer, USB_IDS.manufacturer);
     assert.equal(info.product, USB_IDS.product);
+    // The serial number is the flash chip's unique id (the emulated chip's, answering
+    // command 0x4B), 16 upper-case hex digits.
+    assert.match(info.serial ?? '', /^[0-9A-F]{16}$/);
+    assert.equal(info.serial, Buffer.from(DEFAULT_UNIQUE_ID).toString('hex').toUpperCase());
     assert.equal(info.maxPowerMa, 100);
     assert.equal(info.hid.class, 3);
     assert.equal(info.hid.reportDescriptorLength, HID_REPORT_DESCRIPTOR.length);
@@ -227,7 +232,9 @@ describe('firmware in the loop', () => {
         }
       });
     }
-    assert.ok(board.logMatching(/sensors present \(bit = port\): 11110111/).length > 0);
+    // The log line comes from the sensor loop's next pass, the report from the
+    // snapshot: allow one millisecond between them.
+    assert.ok(board.runUntil(() => board.logMatching(/sensors present \(bit = port\): 11110111/).length > 0, 1000));
     board.runUs(100_000); // stays absent while unplugged (resets go unanswered)
     assert.ok(absent());
 
@@ -244,7 +251,7 @@ describe('firmware in the loop', () => {
     assert.ok(containsRun(again, CONFIG_SEQUENCE), `re-initialised: ${hex(again)}`);
     t.diagnostic(`after the replug port ${port} got ${hex(again)}; present again ${((board.timeUs - pluggedAt) / 1000).toFixed(1)} ms after it`);
     assert.ok(sums(rig.reports(replugFrom))[port].status & STATUS.REINITIALISED, 'REINITIALISED flag');
-    assert.ok(board.logMatching(/sensors present \(bit = port\): 11111111/, 0).length >= 2);
+    assert.ok(board.runUntil(() => board.logMatching(/sensors present \(bit = port\): 11111111/, 0).length >= 2, 1000));
 
     // And its motion arrives again.
     const motionFrom = host.inReports.length;
