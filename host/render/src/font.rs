@@ -1,5 +1,6 @@
 //! A 5 × 7 bitmap font drawn in code (no font files): upper-case letters, digits and a
-//! little punctuation. Text becomes a list of pixel rectangles (runs of lit cells).
+//! little punctuation (enough for file paths). Text becomes a list of pixel rectangles
+//! (runs of lit cells).
 
 /// Cells per glyph across.
 pub const GLYPH_W: u32 = 5;
@@ -140,6 +141,18 @@ pub fn glyph(c: char) -> [u8; 7] {
         '%' => [
             "11000", "11001", "00010", "00100", "01000", "10011", "00011",
         ],
+        '_' => [
+            "00000", "00000", "00000", "00000", "00000", "00000", "11111",
+        ],
+        '(' => [
+            "00010", "00100", "01000", "01000", "01000", "00100", "00010",
+        ],
+        ')' => [
+            "01000", "00100", "00010", "00010", "00010", "00100", "01000",
+        ],
+        ',' => [
+            "00000", "00000", "00000", "00000", "00110", "00100", "01000",
+        ],
         _ => ["00000"; 7],
     };
     rows.map(|r| u8::from_str_radix(r, 2).unwrap_or(0))
@@ -192,7 +205,7 @@ mod tests {
 
     #[test]
     fn glyphs_cover_the_alphabet_and_digits() {
-        for c in ('A'..='Z').chain('0'..='9').chain("-!:./?%".chars()) {
+        for c in ('A'..='Z').chain('0'..='9').chain("-!:./?%_(),".chars()) {
             assert!(glyph(c).iter().any(|&r| r != 0), "{c} is blank");
             assert!(glyph(c).iter().all(|&r| r < 32));
         }

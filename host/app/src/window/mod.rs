@@ -13,6 +13,8 @@
 pub mod args;
 pub mod board;
 pub mod calibrate;
+#[cfg(test)]
+mod calibration_e2e;
 pub mod controls;
 pub mod flow;
 pub mod gamepad;
@@ -316,10 +318,6 @@ impl App {
                     })
                 }));
             }
-        } else if out.stage == Stage::Calibration {
-            out.snapshot
-                .held_rods
-                .extend(self.session.calibration_rod());
         }
         for s in &out.sounds {
             self.audio.play(*s);

@@ -282,22 +282,46 @@ impl Session {
         self.flow.enter(Stage::Calibration, now);
     }
 
-    /// Leaves calibration mode: good fits are used from now on and saved; back to the
-    /// attract screen.
+    /// Uses `fitted` from now on and saves it (written to a temporary file, then renamed,
+    /// by [`Calibration::save`]); returns what the screen says about it.
+    fn use_calibration(&mut self, fitted: Calibration) -> String {
+        self.calibration = fitted;
+        *lock(&self.input) = board_input(self.board.clone(), &self.table, fitted);
+        let msg = match &self.options.calibration_path {
+            Some(path) => match fitted.save(path) {
+                Ok(()) => format!("CALIBRATION SAVED TO {}", path.display()),
+                Err(e) => format!("CALIBRATION NOT SAVED: {e}"),
+            },
+            None => "CALIBRATION IN USE (NOT SAVED)".into(),
+        };
+        self.notice = Some((msg.clone(), self.now_s() + 6.0));
+        msg
+    }
+
+    /// Once every rod is done: the fits are used and saved at once, and the calibration
+    /// screen says where.
+    fn save_when_done(&mut self) {
+        let Some(fitted) = self
+            .calibrator
+            .as_ref()
+            .filter(|c| c.is_done() && !c.saved())
+            .map(Calibrator::calibration)
+        else {
+            return;
+        };
+        let msg = self.use_calibration(fitted);
+        if let Some(c) = &mut self.calibrator {
+            c.set_saved(msg);
+        }
+    }
+
+    /// Leaves calibration mode: good fits not yet saved are used from now on and saved;
+    /// back to the attract screen.
     fn finish_calibration(&mut self) -> anyhow::Result<()> {
         if let Some(c) = self.calibrator.take() {
             let fitted = c.calibration();
             if fitted != self.calibration {
-                self.calibration = fitted;
-                *lock(&self.input) = board_input(self.board.clone(), &self.table, fitted);
-                let msg = match &self.options.calibration_path {
-                    Some(path) => match fitted.save(path) {
-                        Ok(()) => format!("CALIBRATION SAVED TO {}", path.display()),
-                        Err(e) => format!("CALIBRATION NOT SAVED: {e}"),
-                    },
-                    None => "CALIBRATION IN USE (NOT SAVED)".into(),
-                };
-                self.notice = Some((msg, self.now_s() + 6.0));
+                self.use_calibration(fitted);
             }
         }
         let now = self.now_s();
@@ -359,6 +383,8 @@ impl Session {
                 input.tracker_mut().apply_link_state(state);
             }
             *lock(&self.latest) = input.tracker().inputs();
+            drop(input);
+            self.save_when_done();
         } else if !running {
             let inputs = lock(&self.input).poll(2000);
             *lock(&self.latest) = inputs;
@@ -416,6 +442,10 @@ impl Session {
             for (i, c) in self.flow.characters().into_iter().enumerate() {
                 snapshot.table.characters[i] = view::kind(c);
             }
+        }
+        if stage == Stage::Calibration {
+            // The rod being calibrated glows on the table.
+            snapshot.held_rods.extend(self.calibration_rod());
         }
         let lost = rods.health == InputHealth::BoardLost;
         let screen = if lost {
