@@ -7,8 +7,10 @@
 //! * [`Pacing::RealTime`] (the game): one report per wall-clock millisecond; a poll
 //!   waits (at most its timeout) for the next one.
 //!
-//! Reports go through their byte encoding and [`ReportReceiver`], exactly like the
-//! socket and USB boards, so [`Board::stats`] means the same thing.
+//! Reports are the version 2 reports the RP2040 binary sends (motion plus the device
+//! time and per-paddle packet ages and drop counts, [`Board::last_timing`]); they go
+//! through their byte encoding and [`ReportReceiver`], exactly like the socket and USB
+//! boards, so [`Board::stats`] means the same thing.
 
 use crate::board::{BoardConfig, EmulatedBoard};
 use crate::error::SimError;
@@ -16,7 +18,7 @@ use crate::motion::live::{LiveHandle, LiveLimits, LiveMotion};
 use crate::motion::MotionSource;
 use crate::pacing::RealTimePacer;
 use board_link::{Board, BoardError, LinkState, LinkStats, ReportReceiver};
-use foosball_protocol::{InReport, OutReport};
+use foosball_protocol::{InReport, InReportV2, OutReport, ReportTiming};
 use std::time::{Duration, Instant};
 
 /// How many reports a real-time board catches up at most after a stall.
@@ -91,7 +93,7 @@ impl InProcessBoard {
         &mut self.board
     }
 
-    fn deliver(&mut self, report: InReport) -> Result<Option<InReport>, BoardError> {
+    fn deliver(&mut self, report: InReportV2) -> Result<Option<InReport>, BoardError> {
         // Through the bytes, as every other board does.
         self.receiver.accept(&report.to_bytes()).map(Some)
     }
@@ -107,7 +109,7 @@ impl Board for InProcessBoard {
 
     fn poll_report(&mut self, timeout: Duration) -> Result<Option<InReport>, BoardError> {
         if self.pacing == Pacing::Lockstep {
-            let report = self.board.step_report();
+            let report = self.board.step_report_v2();
             return self.deliver(report);
         }
         let start = Instant::now();
@@ -119,7 +121,7 @@ impl Board for InProcessBoard {
             let now = Instant::now();
             if pacer.due(now) > 0 {
                 pacer.emitted();
-                let report = self.board.step_report();
+                let report = self.board.step_report_v2();
                 return self.deliver(report);
             }
             let next = pacer.next_due_at();
@@ -150,6 +152,10 @@ impl Board for InProcessBoard {
     fn stats(&self) -> LinkStats {
         self.receiver.stats()
     }
+
+    fn last_timing(&self) -> Option<ReportTiming> {
+        self.receiver.last_timing()
+    }
 }
 
 #[cfg(test)]
@@ -171,6 +177,9 @@ mod tests {
             assert_eq!(r.sequence, i);
         }
         assert_eq!(board.emulated().now_us(), 10_000);
+        // Version 2 reports: the device time of the last snapshot, µs.
+        let timing = board.last_timing().expect("version 2 timing");
+        assert_eq!(timing.device_time_us, 10_000);
         assert_eq!(board.stats().received, 10);
         assert_eq!(board.stats().lost, 0);
         assert!(board.link_state().is_connected());

@@ -149,9 +149,10 @@ impl SocketServer {
             let due = pacer.due(Instant::now());
             for _ in 0..due {
                 pacer.emitted();
-                let report = board.step_report();
+                // The version 2 report, as the RP2040 binary sends it over USB.
+                let report = board.step_report_v2().to_bytes();
                 self.stats.reports += 1;
-                let frame = encode(&Message::in_report(&report));
+                let frame = encode(&Message::InReport(report.to_vec()));
                 for client in &mut self.clients {
                     client.queue(&frame);
                 }

@@ -12,9 +12,11 @@
 //! space-foosball bench match [--json] [--steps N] [--table standard|paper|FILE]
 //! space-foosball bench render [--frames 120] [--width W --height H]
 //! space-foosball play --headless --record FILE … ; space-foosball replay FILE [--home player] [--format text]
+//! space-foosball board [--board auto|usb|emulated|socket[:PATH] | --socket PATH] [--once | --frames N] [--format text|json]
 //! ```
 
 mod bench;
+mod board_view;
 mod event_text;
 mod headless;
 mod play;
@@ -51,6 +53,10 @@ enum Command {
     /// Play a recorded match (`play --headless --record FILE`) back headless: the
     /// recorded match's events again.
     Replay(replay::Args),
+    /// The sensor board's health, live: protocol version, device time, per paddle
+    /// presence, packet age, dropped packets and motion, the report rate, the host's
+    /// counters (lost reports, sequence gaps).
+    Board(board_view::Args),
 }
 
 fn main() -> ExitCode {
@@ -64,6 +70,7 @@ fn main() -> ExitCode {
         Command::Play(args) => play::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Replay(args) => replay::run(&args),
+        Command::Board(args) => board_view::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

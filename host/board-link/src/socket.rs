@@ -7,7 +7,7 @@ use std::os::unix::net::UnixStream;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use foosball_protocol::{InReport, OutReport, FORMAT_VERSION};
+use foosball_protocol::{InReport, OutReport, ReportTiming, FORMAT_VERSION};
 
 use crate::link::{Connector, Link, ReportBuf, SystemClock, Transport, TransportError};
 use crate::socket_wire::{self, FrameKind, FrameReader, Message, WireError};
@@ -94,6 +94,9 @@ impl Board for SocketBoard {
     }
     fn stats(&self) -> LinkStats {
         self.link.stats()
+    }
+    fn last_timing(&self) -> Option<ReportTiming> {
+        self.link.last_timing()
     }
 }
 
