@@ -10,20 +10,30 @@
 //!   either version with [`decode_in_report`].
 //! * [`OutReport`]: host → device, a haptic pulse per paddle ([`HapticPulse`]) and the
 //!   status LED.
+//! * [`FeatureReport`]: both ways over the control pipe, the board's diagnostics
+//!   ([`DeviceInfo`], [`PortDiagnostics`]), its configuration ([`BoardSettings`]),
+//!   and the command that restarts it into its USB bootloader.
 //! * [`usb`]: vendor/product ids, endpoint sizes and the HID report descriptor.
 //!
-//! All multi-byte fields are little-endian. Every report starts with
-//! [`FORMAT_VERSION`]; a decoder rejects any other version.
+//! All multi-byte fields are little-endian. Every report starts with its layout
+//! version ([`FORMAT_VERSION`], [`IN_REPORT_V2_VERSION`], [`FEATURE_REPORT_VERSION`]);
+//! a decoder rejects any other version.
 #![no_std]
 #![deny(missing_docs)]
 
 mod error;
+mod feature_report;
 mod in_report;
 mod in_report_v2;
 mod out_report;
 pub mod usb;
 
 pub use error::{DecodeError, EncodeError};
+pub use feature_report::{
+    BoardSettings, DeviceInfo, FeatureKind, FeatureReport, PortCounters, PortDiagnostics,
+    PortSettings, ResetReason, BOOTLOADER_MAGIC, FEATURE_REPORT_LEN, FEATURE_REPORT_VERSION,
+    GIT_HASH_LEN, SAMPLE_RATES,
+};
 pub use in_report::{InReport, PaddleMotion, PaddleStatus, IN_REPORT_LEN};
 pub use in_report_v2::{
     decode_in_report, InReportV2, PacketAge, PaddleTiming, ReportTiming, IN_REPORT_V2_LEN,

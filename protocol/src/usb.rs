@@ -6,7 +6,7 @@
 //! [`VENDOR_ID`]/[`PRODUCT_ID`] here, and update the host's udev rule
 //! (`host/board-link/udev/70-space-foosball.rules`): both ends read these constants.
 
-use crate::{IN_REPORT_LEN, IN_REPORT_V2_LEN, OUT_REPORT_LEN};
+use crate::{FEATURE_REPORT_LEN, IN_REPORT_LEN, IN_REPORT_V2_LEN, OUT_REPORT_LEN};
 
 /// USB vendor id (pid.codes).
 pub const VENDOR_ID: u16 = 0x1209;
@@ -27,8 +27,9 @@ pub const POLL_INTERVAL_MS: u8 = 1;
 pub const VENDOR_USAGE_PAGE: u16 = 0xFF00;
 
 /// HID report descriptor: one vendor-defined application collection with one input
-/// report of [`IN_REPORT_V2_LEN`] bytes (the board sends version 2 IN reports) and
-/// one output report of [`OUT_REPORT_LEN`] bytes, no report ids.
+/// report of [`IN_REPORT_V2_LEN`] bytes (the board sends version 2 IN reports), one
+/// output report of [`OUT_REPORT_LEN`] bytes and one feature report of
+/// [`FEATURE_REPORT_LEN`] bytes ([`crate::FeatureReport`]), no report ids.
 #[rustfmt::skip]
 pub const HID_REPORT_DESCRIPTOR: &[u8] = &[
     0x06, 0x00, 0xFF, // Usage Page (Vendor Defined 0xFF00)
@@ -43,6 +44,9 @@ pub const HID_REPORT_DESCRIPTOR: &[u8] = &[
     0x09, 0x03, //   Usage (Vendor 3: haptics and LED)
     0x95, OUT_REPORT_LEN as u8, //   Report Count
     0x91, 0x02, //   Output (Data, Variable, Absolute)
+    0x09, 0x04, //   Usage (Vendor 4: diagnostics and configuration)
+    0x95, FEATURE_REPORT_LEN as u8, //   Report Count
+    0xB1, 0x02, //   Feature (Data, Variable, Absolute)
     0xC0, // End Collection
 ];
 
@@ -50,3 +54,5 @@ pub const HID_REPORT_DESCRIPTOR: &[u8] = &[
 const _: () = assert!(IN_REPORT_LEN <= ENDPOINT_MAX_PACKET as usize);
 const _: () = assert!(IN_REPORT_V2_LEN <= ENDPOINT_MAX_PACKET as usize);
 const _: () = assert!(OUT_REPORT_LEN <= ENDPOINT_MAX_PACKET as usize);
+// The Feature report fits one control packet (and the firmware's 64-byte control buffer).
+const _: () = assert!(FEATURE_REPORT_LEN <= ENDPOINT_MAX_PACKET as usize);

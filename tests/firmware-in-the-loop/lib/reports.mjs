@@ -10,6 +10,8 @@ export const IN_REPORT_LEN = 7 + 7 * PADDLES; // 63
 /** `PacketAge` steps, µs; 255 = none that recent. */
 export const PACKET_AGE_STEP_US = 100;
 export const OUT_REPORT_LEN = 2 + 2 * PADDLES; // 18
+/** `protocol/src/feature_report.rs`: every Feature report's length. */
+export const FEATURE_REPORT_LEN = 56;
 
 export const STATUS = {
   PRESENT: 0x01,
@@ -32,7 +34,8 @@ export const USB_IDS = {
 };
 export const HID_REPORT_DESCRIPTOR = Uint8Array.from([
   0x06, 0x00, 0xff, 0x09, 0x01, 0xa1, 0x01, 0x15, 0x00, 0x26, 0xff, 0x00, 0x75, 0x08, 0x09, 0x02,
-  0x95, IN_REPORT_LEN, 0x81, 0x02, 0x09, 0x03, 0x95, OUT_REPORT_LEN, 0x91, 0x02, 0xc0,
+  0x95, IN_REPORT_LEN, 0x81, 0x02, 0x09, 0x03, 0x95, OUT_REPORT_LEN, 0x91, 0x02,
+  0x09, 0x04, 0x95, FEATURE_REPORT_LEN, 0xb1, 0x02, 0xc0,
 ]);
 
 /**
