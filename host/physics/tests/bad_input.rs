@@ -533,9 +533,9 @@ mod api {
             let mut w = tree_world();
             let a = &mut w.articulated[0];
             match what {
-                "q" => a.q[index] = value,
-                "qd" => a.qd[index] = value,
-                _ => a.tau[index] = value,
+                "q" => a.q_mut()[index] = value,
+                "qd" => a.qd_mut()[index] = value,
+                _ => a.tau_mut()[index] = value,
             }
             let time = w.time;
             let e = w.step().unwrap_err();

@@ -62,11 +62,11 @@ fn a_torque_limited_position_motor_holds_a_load_below_its_limit() {
     }
     let a = &w.articulated[0];
     // Static deflection τ / k = 3.9e-4 rad; it must not sag further.
-    assert!(a.q[0].abs() < 1e-3, "arm angle {} rad", a.q[0]);
+    assert!(a.q()[0].abs() < 1e-3, "arm angle {} rad", a.q()[0]);
     assert!(
-        a.qd[0].abs() < 1e-4,
+        a.qd()[0].abs() < 1e-4,
         "arm still moving at {} rad/s",
-        a.qd[0]
+        a.qd()[0]
     );
     // The motor carries the load: its torque balances gravity's (about y, gravity pulls
     // the arm's +x end down, a positive rotation about y).
@@ -88,7 +88,11 @@ fn a_torque_limited_position_motor_slips_above_its_limit() {
         w.step().expect("finite");
     }
     let a = &w.articulated[0];
-    assert!(a.q[0] > 0.3, "the arm should have fallen: {} rad", a.q[0]);
+    assert!(
+        a.q()[0] > 0.3,
+        "the arm should have fallen: {} rad",
+        a.q()[0]
+    );
     let tau = a.drive_force(0, w.dt);
     assert!(
         ((tau.abs() - max) / max).abs() < 1e-9,
@@ -117,15 +121,15 @@ fn a_prismatic_limit_stops_the_joint_at_the_limit() {
         let steps = (2.0 / dt) as usize;
         for _ in 0..steps {
             w.step().expect("finite");
-            let q = w.articulated[0].q[0];
+            let q = w.articulated[0].q()[0];
             assert!(q > -1e-3, "at dt {dt}: {q} m past the limit");
         }
         let a = &w.articulated[0];
         assert!(
-            a.q[0].abs() < 1e-3 && a.qd[0].abs() < 1e-3,
+            a.q()[0].abs() < 1e-3 && a.qd()[0].abs() < 1e-3,
             "at dt {dt}: q {} q̇ {}",
-            a.q[0],
-            a.qd[0]
+            a.q()[0],
+            a.qd()[0]
         );
         // Resting on the limit, the limit carries the weight.
         let f = a.drive_force(0, dt);
@@ -194,7 +198,7 @@ fn a_kinematic_root_on_a_sinusoid_drives_a_hanging_chain() {
     for step in 1..=10_000 {
         w.step().expect("finite");
         let t = step as f64 * 1e-3;
-        let root = w.articulated[0].q[0];
+        let root = w.articulated[0].q()[0];
         assert!(
             (root - traj.at(t)).abs() < 1e-9,
             "root at {root} m, trajectory {} m",

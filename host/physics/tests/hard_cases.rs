@@ -219,7 +219,7 @@ fn articulated_run(w: &mut World, steps: usize, scale: f64) -> f64 {
     }
     let a = &w.articulated[0];
     assert!(
-        a.q.iter().chain(&a.qd).all(|x| x.is_finite()),
+        a.q().iter().chain(a.qd()).all(|x| x.is_finite()),
         "articulated state not finite"
     );
     (w.energy() - e0) / scale
@@ -279,7 +279,7 @@ fn case04_chain_of_200_links_swings() {
         assert!(de.abs() < tol, "{kind}: energy drift {de:e}");
         if kind == IntegratorKind::Rkmk4 {
             let a = &w.articulated[0];
-            aba_f32_matches_f64(&model, &a.q, &a.qd);
+            aba_f32_matches_f64(&model, a.q(), a.qd());
         }
     }
 }
@@ -315,7 +315,7 @@ fn case05_mass_ratio_one_to_ten_thousand() {
         };
         assert!(de.abs() < tol, "{kind} chain: energy drift {de:e}");
         let a = &w.articulated[0];
-        aba_f32_matches_f64(&chain, &a.q, &a.qd);
+        aba_f32_matches_f64(&chain, a.q(), a.qd());
     }
     let tree = virtual_physics::model::builders::mass_ratio();
     let nq = tree.build::<f64>().unwrap().nq();
@@ -471,7 +471,7 @@ fn case08_near_singular_configurations() {
     let q = vec![std::f64::consts::PI - 1e-9, 0.0, 0.0];
     for kind in [IntegratorKind::SymplecticEuler, IntegratorKind::Rkmk4] {
         let mut w = articulated_world(&top, q.clone(), kind);
-        w.articulated[0].qd = vec![2.0, 0.5, 3.0];
+        w.articulated[0].qd_mut().copy_from_slice(&[2.0, 0.5, 3.0]);
         let de = articulated_run(&mut w, 60, 9.81 * 0.15);
         let tol = if kind == IntegratorKind::Rkmk4 {
             1e-6

@@ -130,7 +130,7 @@ fn a_twenty_link_chain_dropped_on_the_ground_rests_on_it() {
     }
     // … at rest.
     let speed = w.articulated[0]
-        .qd
+        .qd()
         .iter()
         .map(|v| v * v)
         .sum::<f64>()
@@ -187,7 +187,7 @@ fn a_link_of_one_tree_rests_on_a_link_of_another() {
     for _ in 0..180 {
         w.step().expect("finite");
     }
-    let (plate_z, cube_z) = (w.articulated[0].q[0], w.articulated[1].q[5]);
+    let (plate_z, cube_z) = (w.articulated[0].q()[0], w.articulated[1].q()[5]);
     assert!(
         (plate_z - plate.z).abs() < 1e-3,
         "plate centre at {plate_z} m"
@@ -197,7 +197,7 @@ fn a_link_of_one_tree_rests_on_a_link_of_another() {
         "cube centre at {cube_z} m, plate top at {} m",
         2.0 * plate.z
     );
-    assert!(w.articulated[0].qd[0].abs() < 1e-2 && w.articulated[1].qd[5].abs() < 1e-2);
+    assert!(w.articulated[0].qd()[0].abs() < 1e-2 && w.articulated[1].qd()[5].abs() < 1e-2);
 }
 
 /// A pendulum (a 1 kg bob of radius 5 cm, 0.5 m below a hinge about `y`) swings through
@@ -265,7 +265,7 @@ fn a_pendulum_strikes_a_free_box_with_the_analytic_impulse() {
         "box momentum {received} N·s, analytic impulse {lambda} N·s"
     );
     assert!(w.bodies.vel[bx].x < 0.0, "the box is pushed towards −x");
-    let lost = i_pivot * (omega0 - w.articulated[0].qd[0]);
+    let lost = i_pivot * (omega0 - w.articulated[0].qd()[0]);
     assert!(
         ((lost - lambda * l) / (lambda * l)).abs() < 1e-6,
         "angular momentum lost {lost}, expected {}",

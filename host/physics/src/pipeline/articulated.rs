@@ -55,16 +55,16 @@ pub(crate) struct LinkShape {
 /// One articulated tree with its state.
 pub struct ArticulatedSystem {
     /// The model.
-    pub tree: ArticulatedTree<f64>,
+    pub(crate) tree: ArticulatedTree<f64>,
     ws: Workspace<f64>,
     /// Configuration.
-    pub q: Vec<f64>,
+    pub(crate) q: Vec<f64>,
     /// Velocity.
-    pub qd: Vec<f64>,
+    pub(crate) qd: Vec<f64>,
     /// Joint forces (held constant).
-    pub tau: Vec<f64>,
+    pub(crate) tau: Vec<f64>,
     /// The integrator (set by the world; see the module docs).
-    pub integrator: IntegratorKind,
+    pub(crate) integrator: IntegratorKind,
     /// Collision shapes fixed on links (link frame): such a tree touches the world's bodies.
     pub(crate) link_shapes: Vec<LinkShape>,
     /// Motors, limits and prescribed coordinates.
@@ -374,6 +374,56 @@ impl ArticulatedSystem {
             }
         }
         e
+    }
+}
+
+/// Reading and setting the state.
+impl ArticulatedSystem {
+    /// The model (bodies, joints, inertias).
+    pub fn model(&self) -> &ArticulatedTree<f64> {
+        &self.tree
+    }
+
+    /// Generalised coordinates `q` (the model's joint order; `nq` values: rad for revolute,
+    /// m for prismatic, a rotation vector (rad) for a ball joint's orientation).
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+
+    /// Mutable generalised coordinates (the length is fixed by the model).
+    pub fn q_mut(&mut self) -> &mut [f64] {
+        &mut self.q
+    }
+
+    /// Generalised velocities `q̇` (`nv` values, rad/s or m/s; ball and free joints in their
+    /// body frame).
+    pub fn qd(&self) -> &[f64] {
+        &self.qd
+    }
+
+    /// Mutable generalised velocities.
+    pub fn qd_mut(&mut self) -> &mut [f64] {
+        &mut self.qd
+    }
+
+    /// Joint forces `τ` (N or N·m per degree of freedom), held constant over steps.
+    pub fn tau(&self) -> &[f64] {
+        &self.tau
+    }
+
+    /// Mutable joint forces; set them each step from Rust to drive the tree by force.
+    pub fn tau_mut(&mut self) -> &mut [f64] {
+        &mut self.tau
+    }
+
+    /// The integrator this tree steps with.
+    pub fn integrator(&self) -> IntegratorKind {
+        self.integrator
+    }
+
+    /// Selects the integrator (the world sets its own on trees it is given).
+    pub fn set_integrator(&mut self, kind: IntegratorKind) {
+        self.integrator = kind;
     }
 }
 

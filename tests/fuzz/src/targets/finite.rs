@@ -23,8 +23,12 @@ pub(super) fn first_non_finite(world: &World) -> Option<String> {
         }
     }
     for (k, a) in world.articulated.iter().enumerate() {
-        if !a.q.iter().chain(a.qd.iter()).all(|v| v.is_finite()) {
-            return Some(format!("articulated tree {k}: q {:?} qd {:?}", a.q, a.qd));
+        if !a.q().iter().chain(a.qd().iter()).all(|v| v.is_finite()) {
+            return Some(format!(
+                "articulated tree {k}: q {:?} qd {:?}",
+                a.q(),
+                a.qd()
+            ));
         }
     }
     None
