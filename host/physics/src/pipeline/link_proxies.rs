@@ -72,6 +72,7 @@ impl World {
                 V3::zeros(),
                 V3::zeros(),
             );
+            self.body_slots.insert::<crate::pipeline::BodyHandle>();
             self.bodies.awake[i] = true;
             self.bodies.responds[i] = true;
             self.proxies.resize(i + 1, None);

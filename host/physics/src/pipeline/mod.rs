@@ -7,11 +7,14 @@
 //! * [`islands`] — contact/joint islands and sleeping.
 //! * [`articulated`] — articulated trees stepped by part 1's ABA.
 //! * [`world`] — the world and its step.
+//! * handles ([`BodyHandle`], [`JointHandle`], [`TreeHandle`], [`LinkHandle`]) — stable names
+//!   for what the world holds, valid across inserting and removing other bodies.
 
 pub mod articulated;
 pub mod counters;
 mod drives;
 pub mod effects;
+mod handles;
 pub mod integrator;
 pub mod islands;
 mod tree_contacts;
@@ -20,5 +23,6 @@ pub mod world;
 pub use counters::{Stage, StepCounters};
 pub use drives::{DriveKind, Motor, Trajectory};
 pub use effects::{Effect, Effects};
+pub use handles::{BodyHandle, JointHandle, LinkHandle, TreeHandle};
 pub use integrator::{FreeForces, FreeIntegrator, IntegratorKind};
 pub use world::{SolverSettings, World};

@@ -2,6 +2,7 @@
 //! effects. A stage whose effect is not declared has no state (`None`) and is never entered.
 
 use super::articulated::ArticulatedSystem;
+use super::handles::{BodyHandle, JointHandle, Slots};
 use super::islands::Islands;
 use super::{Effect, Effects, FreeForces, FreeIntegrator, IntegratorKind, Stage, StepCounters};
 use crate::dynamics::solver::{
@@ -15,6 +16,9 @@ mod step_guard;
 
 #[path = "link_proxies.rs"]
 mod link_proxies;
+
+#[path = "world_bodies.rs"]
+mod world_bodies;
 
 use super::tree_contacts::{Proxy, TreeContacts, TreeDisplacements};
 
@@ -127,6 +131,12 @@ pub struct World {
     link_poses: Vec<Vec<crate::algebra::SE3<f64>>>,
     /// The substep (s) and the time at its end (s), for the drives' rows.
     substep_clock: (f64, f64),
+    /// Body handles ↔ storage indices.
+    body_slots: Slots,
+    /// Joint handles ↔ indices into `joints`.
+    joint_slots: Slots,
+    /// Bodies were inserted or removed since the broad phase sized its grid.
+    broad_dirty: bool,
 }
 
 impl World {
@@ -140,6 +150,10 @@ impl World {
     ) -> Self {
         let contacts = effects.has(Effect::Contacts);
         let broad = contacts.then(|| BroadPhase::new(&bodies.shape));
+        let mut body_slots = Slots::default();
+        for _ in 0..bodies.len() {
+            body_slots.insert::<BodyHandle>();
+        }
         Self {
             broad,
             narrow: contacts.then(NarrowPhase::default),
@@ -165,6 +179,9 @@ impl World {
             tree_dq: Vec::new(),
             link_poses: Vec::new(),
             substep_clock: (0.0, 0.0),
+            body_slots,
+            joint_slots: Slots::default(),
+            broad_dirty: false,
         }
     }
 
@@ -194,12 +211,13 @@ impl World {
     }
 
     /// Adds a joint (contacts between its two bodies are disabled).
-    pub fn add_joint(&mut self, j: FreeJoint) {
+    pub fn add_joint(&mut self, j: FreeJoint) -> JointHandle {
         let (a, b) = (j.a.min(j.b), j.a.max(j.b));
         self.joint_pairs.push((j.a, j.b));
         self.excluded_pairs.push(((a as u64) << 32) | b as u64);
         self.excluded_pairs.sort_unstable();
         self.joints.push(j);
+        self.joint_slots.insert()
     }
 
     /// Whether the world has a broad phase (the `contacts` effect).
@@ -278,6 +296,12 @@ impl World {
         self.bodies.update_world_inertia();
 
         // Collision.
+        if self.broad_dirty {
+            self.broad_dirty = false;
+            if self.broad.is_some() {
+                self.broad = Some(BroadPhase::new(&self.bodies.shape));
+            }
+        }
         self.constraints.clear();
         self.tree_contacts.clear();
         if let (Some(broad), Some(narrow)) = (self.broad.as_mut(), self.narrow.as_mut()) {
