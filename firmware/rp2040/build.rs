@@ -8,7 +8,8 @@
 //! * `link-rp.x` (embassy-rp): places the second-stage bootloader (`.boot2`).
 //! * `defmt.x` (defmt): the log string table.
 //!
-//! It also defaults the crate's defmt log level to `info` (see the end of `main`).
+//! It also passes the git commit to the firmware (`FOOSBALL_GIT_HASH`) and defaults
+//! the crate's defmt log level to `info` (see the end of `main`).
 
 use std::env;
 use std::fs;
@@ -34,6 +35,28 @@ fn main() {
     println!("cargo:rustc-link-arg-bins=-Tlink.x");
     println!("cargo:rustc-link-arg-bins=-Tlink-rp.x");
     println!("cargo:rustc-link-arg-bins=-Tdefmt.x");
+
+    // The firmware's git commit for the diagnostics Feature report
+    // (`FOOSBALL_GIT_HASH`, 12 hex digits; "unknown" outside a git checkout, e.g.
+    // a source tarball). Rebuilt when HEAD or a branch moves.
+    let repo = manifest_dir.join("../..");
+    let hash = std::process::Command::new("git")
+        .args(["rev-parse", "--short=12", "HEAD"])
+        .current_dir(&repo)
+        .output()
+        .ok()
+        .filter(|out| out.status.success())
+        .and_then(|out| String::from_utf8(out.stdout).ok())
+        .map(|text| text.trim().to_owned())
+        .filter(|text| !text.is_empty())
+        .unwrap_or_else(|| "unknown".to_owned());
+    println!("cargo:rustc-env=FOOSBALL_GIT_HASH={hash}");
+    for watched in [".git/HEAD", ".git/refs/heads", ".git/packed-refs"] {
+        let path = repo.join(watched);
+        if path.exists() {
+            println!("cargo:rerun-if-changed={}", path.display());
+        }
+    }
 
     // defmt logs only errors unless DEFMT_LOG says otherwise; default this crate's
     // own messages to `info` (a DEFMT_LOG set by the user wins and applies to all

@@ -46,5 +46,5 @@ fi
 
 step "firmware in the loop: node $(node --version)"
 start=$(date +%s)
-node --test test/uf2.test.mjs test/firmware.test.mjs test/latency.test.mjs test/wire.test.mjs
+node --test test/uf2.test.mjs test/firmware.test.mjs test/latency.test.mjs test/wire.test.mjs test/feature.test.mjs
 echo "firmware in the loop: passed in $(($(date +%s) - start)) s"

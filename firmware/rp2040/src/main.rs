@@ -12,6 +12,7 @@
 #![no_main]
 
 mod board_flash;
+mod feature;
 mod haptics;
 mod led;
 mod panic;
@@ -40,12 +41,13 @@ bind_interrupts!(struct Irqs {
 async fn main(spawner: Spawner) {
     let board = pins::Board::take(embassy_rp::init(Default::default()));
     defmt::info!("Space Foosball sensor board starting");
-    if let Some(message) = panic::take_last() {
+    let panicked = panic::take_last();
+    if let Some(message) = &panicked {
         defmt::warn!("the previous run panicked: {=str}", message.as_str());
     }
     pins::log_map();
 
-    let watchdog = watchdog::Watchdog::start(board.watchdog);
+    let (watchdog, reset_reason) = watchdog::Watchdog::start(board.watchdog, panicked.is_some());
     let ports = ps2_pio::Ps2Ports::new(
         Pio::new(board.pio0, Irqs),
         Pio::new(board.pio1, Irqs),
@@ -54,7 +56,7 @@ async fn main(spawner: Spawner) {
     let haptics = haptics::Haptics::new(board.haptics);
     let mut flash = board_flash::open(board.flash);
     let serial = board_flash::serial_number(&mut flash);
-    let usb = usb_hid::Usb::new(usb::Driver::new(board.usb, Irqs), serial);
+    let usb = usb_hid::Usb::new(usb::Driver::new(board.usb, Irqs), serial, reset_reason);
 
     spawner.spawn(unwrap!(sensor_loop::sensor_task(ports, watchdog)));
     spawner.spawn(unwrap!(haptics::haptics_task(haptics)));
@@ -62,4 +64,5 @@ async fn main(spawner: Spawner) {
     spawner.spawn(unwrap!(usb_hid::usb_device_task(usb.device)));
     spawner.spawn(unwrap!(usb_hid::report_in_task(usb.writer)));
     spawner.spawn(unwrap!(usb_hid::report_out_task(usb.reader)));
+    spawner.spawn(unwrap!(feature::bootloader_task()));
 }

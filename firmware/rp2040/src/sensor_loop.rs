@@ -130,6 +130,11 @@ pub fn snapshot_report() -> InReportV2 {
     })
 }
 
+/// Runs `f` on the board (its drivers' state and counters, its settings).
+pub fn with_board<R>(f: impl FnOnce(&mut SensorBoard) -> R) -> R {
+    SENSORS.lock(|sensors| f(&mut sensors.borrow_mut().board))
+}
+
 /// The host received `sent`: its motion leaves the accumulators.
 pub fn commit(sent: &InReportV2) {
     SENSORS.lock(|sensors| sensors.borrow_mut().board.commit(&sent.report));

@@ -6,6 +6,8 @@
 //! * OUT (or a HID SET_REPORT control request): an [`OutReport`] with the haptic
 //!   pulses and the LED state, handed to [`crate::haptics`] and [`crate::led`]. A
 //!   malformed report is logged and ignored; reporting goes on.
+//! * Feature (GET_REPORT / SET_REPORT on the control pipe): diagnostics, settings
+//!   and the bootloader command, answered by [`crate::feature`].
 //!
 //! Ids, strings, endpoint size, interval and report descriptor all come from
 //! [`foosball_protocol::usb`], which the host builds too.
@@ -27,9 +29,10 @@ use foosball_protocol::usb::{
     ENDPOINT_MAX_PACKET, HID_REPORT_DESCRIPTOR, MANUFACTURER, POLL_INTERVAL_MS, PRODUCT,
     PRODUCT_ID, VENDOR_ID,
 };
-use foosball_protocol::{HapticPulse, LedState, OutReport, IN_REPORT_V2_LEN, PADDLES};
+use foosball_protocol::{HapticPulse, LedState, OutReport, ResetReason, IN_REPORT_V2_LEN, PADDLES};
 use static_cell::StaticCell;
 
+use crate::feature::FeatureHandler;
 use crate::{haptics, led, sensor_loop, usb_in_flight};
 
 /// The RP2040 USB device controller driver.
@@ -60,8 +63,8 @@ pub struct Usb {
 
 impl Usb {
     /// Builds the device: descriptors (with `serial` as the serial number string),
-    /// the HID interface and its endpoints.
-    pub fn new(driver: UsbDriver, serial: &'static str) -> Self {
+    /// the HID interface and its endpoints; the Feature reports tell `reset_reason`.
+    pub fn new(driver: UsbDriver, serial: &'static str, reset_reason: ResetReason) -> Self {
         let mut config = embassy_usb::Config::new(VENDOR_ID, PRODUCT_ID);
         config.manufacturer = Some(MANUFACTURER);
         config.product = Some(PRODUCT);
@@ -81,7 +84,7 @@ impl Usb {
         static BOS_DESCRIPTOR: StaticCell<[u8; 16]> = StaticCell::new();
         static CONTROL_BUF: StaticCell<[u8; 64]> = StaticCell::new();
         static HID_STATE: StaticCell<hid::State<'static>> = StaticCell::new();
-        static OUT_HANDLER: StaticCell<SetReportHandler> = StaticCell::new();
+        static REPORT_HANDLER: StaticCell<ReportHandler> = StaticCell::new();
         static BUS_HANDLER: StaticCell<BusHandler> = StaticCell::new();
 
         let mut builder = Builder::new(
@@ -94,7 +97,9 @@ impl Usb {
         );
         let hid_config = hid::Config {
             report_descriptor: HID_REPORT_DESCRIPTOR,
-            request_handler: Some(OUT_HANDLER.init(SetReportHandler)),
+            request_handler: Some(REPORT_HANDLER.init(ReportHandler {
+                feature: FeatureHandler::new(reset_reason),
+            })),
             poll_ms: POLL_INTERVAL_MS,
             max_packet_size: ENDPOINT_MAX_PACKET,
             hid_subclass: HidSubclass::No,
@@ -122,6 +127,13 @@ const DEVICE_RELEASE: u16 = bcd_release(
     env!("CARGO_PKG_VERSION_MINOR"),
     env!("CARGO_PKG_VERSION_PATCH"),
 );
+
+/// This crate's version: major, minor, patch (the diagnostics Feature report).
+pub const FIRMWARE_VERSION: [u8; 3] = [
+    decimal(env!("CARGO_PKG_VERSION_MAJOR"), 255) as u8,
+    decimal(env!("CARGO_PKG_VERSION_MINOR"), 255) as u8,
+    decimal(env!("CARGO_PKG_VERSION_PATCH"), 255) as u8,
+];
 
 /// A decimal version component; fails the build above `max` (BCD has no room).
 const fn decimal(digits: &str, max: u16) -> u16 {
@@ -192,15 +204,31 @@ fn apply_out_report(bytes: &[u8]) -> bool {
     }
 }
 
-/// Takes OUT reports sent as HID SET_REPORT control requests (hosts without
-/// interrupt OUT support use them).
-struct SetReportHandler;
+/// The HID class requests: OUT reports sent as SET_REPORT control requests (hosts
+/// without interrupt OUT support use them) and the Feature reports
+/// ([`FeatureHandler`]).
+struct ReportHandler {
+    feature: FeatureHandler,
+}
 
-impl RequestHandler for SetReportHandler {
-    fn set_report(&mut self, id: ReportId, data: &[u8]) -> OutResponse {
+impl RequestHandler for ReportHandler {
+    fn get_report(&mut self, id: ReportId, buf: &mut [u8]) -> Option<usize> {
         match id {
-            ReportId::Out(0) if apply_out_report(data) => OutResponse::Accepted,
-            _ => OutResponse::Rejected,
+            ReportId::Feature(0) => self.feature.get(buf),
+            _ => None,
+        }
+    }
+
+    fn set_report(&mut self, id: ReportId, data: &[u8]) -> OutResponse {
+        let accepted = match id {
+            ReportId::Out(0) => apply_out_report(data),
+            ReportId::Feature(0) => self.feature.set(data),
+            _ => false,
+        };
+        if accepted {
+            OutResponse::Accepted
+        } else {
+            OutResponse::Rejected
         }
     }
 }

@@ -9,6 +9,7 @@ use embassy_rp::peripherals::WATCHDOG;
 use embassy_rp::watchdog::{ResetReason, Watchdog as RpWatchdog};
 use embassy_rp::Peri;
 use embassy_time::Duration;
+use foosball_protocol::ResetReason as BootReason;
 
 /// How long the sensor loop may go without feeding the watchdog.
 pub const TIMEOUT: Duration = Duration::from_millis(100);
@@ -18,16 +19,25 @@ pub struct Watchdog(RpWatchdog);
 
 impl Watchdog {
     /// Logs why the chip last reset if the watchdog did it, then starts the watchdog.
-    pub fn start(peripheral: Peri<'static, WATCHDOG>) -> Self {
+    /// Returns it and the reset reason (`panicked`: the previous run left a panic
+    /// message, so its forced reset was the panic's).
+    pub fn start(peripheral: Peri<'static, WATCHDOG>, panicked: bool) -> (Self, BootReason) {
         let mut watchdog = RpWatchdog::new(peripheral);
-        match watchdog.reset_reason() {
-            Some(ResetReason::TimedOut) => defmt::warn!("reset by the watchdog (timed out)"),
-            Some(ResetReason::Forced) => defmt::info!("reset by the watchdog (forced)"),
-            None => {}
-        }
+        let reason = match watchdog.reset_reason() {
+            Some(ResetReason::TimedOut) => {
+                defmt::warn!("reset by the watchdog (timed out)");
+                BootReason::WatchdogTimeout
+            }
+            Some(ResetReason::Forced) => {
+                defmt::info!("reset by the watchdog (forced)");
+                BootReason::Forced
+            }
+            None => BootReason::PowerOn,
+        };
         watchdog.pause_on_debug(true);
         watchdog.start(TIMEOUT);
-        Self(watchdog)
+        let reason = if panicked { BootReason::Panic } else { reason };
+        (Self(watchdog), reason)
     }
 
     /// Restarts the countdown.

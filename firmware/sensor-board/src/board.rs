@@ -201,7 +201,23 @@ impl SensorBoard {
         self.sequence = sent.sequence.wrapping_add(1);
     }
 
-    /// The configuration.
+    /// Changes how `port` is mounted and run: its axis map applies to the next
+    /// packet, its mouse configuration as [`MouseDriver::set_config`] says (a
+    /// streaming mouse is sent the new sample rate and resolution). Ports outside
+    /// `0..8` are ignored.
+    pub fn set_port(&mut self, port: usize, mouse: MouseConfig, axis_map: AxisMap) {
+        if let (Some(driver), Some(map)) = (
+            self.drivers.get_mut(port),
+            self.config.axis_maps.get_mut(port),
+        ) {
+            driver.set_config(mouse);
+            *map = axis_map;
+        }
+    }
+
+    /// The configuration the board was built with, with every axis map as
+    /// [`set_port`](Self::set_port) left it (each port's mouse configuration is its
+    /// driver's: [`MouseDriver::config`]).
     pub const fn config(&self) -> &BoardConfig {
         &self.config
     }

@@ -99,6 +99,46 @@ fn resolution_and_sample_rate_are_configurable() {
 }
 
 #[test]
+fn a_new_config_reaches_a_streaming_mouse_without_a_reset() {
+    let mut h = streaming();
+    let config = MouseConfig {
+        sample_rate: 100,
+        resolution: Resolution::CountsPerMm4,
+        ..MouseConfig::default()
+    };
+    h.driver.set_config(config);
+    for byte in [0xF3, 100, 0xE8, 2, 0xF4] {
+        h.expect_send(byte);
+        h.recv(0xFA);
+    }
+    assert!(h.driver.is_present());
+    assert_eq!(h.driver.config(), &config);
+    assert_eq!(h.driver.stats().reconfigurations, 1);
+    // The same settings again send nothing.
+    h.driver.set_config(config);
+    h.expect_quiet();
+}
+
+#[test]
+fn a_new_config_waits_for_the_command_in_flight() {
+    let mut h = streaming();
+    h.now += 40 * MS; // silent: the liveness probe is due
+    assert_eq!(h.driver.poll(h.now), Some(0xE9));
+    h.driver.set_config(MouseConfig {
+        sample_rate: 40,
+        ..MouseConfig::default()
+    });
+    h.driver.on_command_sent(h.now, Ok(()));
+    h.expect_quiet(); // the probe's answer first
+    h.recv_all(&[0xFA, 0x20, 3, 200]);
+    for byte in [0xF3, 40, 0xE8, 3, 0xF4] {
+        h.expect_send(byte);
+        h.recv(0xFA);
+    }
+    assert!(h.driver.is_present());
+}
+
+#[test]
 fn emulated_mouse_ends_up_configured() {
     let mut driver = MouseDriver::new(MouseConfig::default());
     let mut mouse = FakeMouse::new();

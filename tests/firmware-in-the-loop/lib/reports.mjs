@@ -73,3 +73,93 @@ export function encodeOutReport(pulses, led = LED.ON, version = FORMAT_VERSION) 
   out[OUT_REPORT_LEN - 1] = led;
   return out;
 }
+
+/** `protocol/src/feature_report.rs`: the Feature report's version and kinds. */
+export const FEATURE_VERSION = 1;
+export const FEATURE_KIND = { DEVICE_INFO: 1, PORT_DIAGNOSTICS: 2, SETTINGS: 3, SELECT: 16, ENTER_BOOTLOADER: 17 };
+export const RESET_REASON = { POWER_ON: 0, WATCHDOG_TIMEOUT: 1, FORCED: 2, PANIC: 3 };
+const COUNTER_NAMES = [
+  'frames', 'packets', 'framingErrors', 'parityErrors', 'resends', 'dropped',
+  'retries', 'absences', 'inits', 'restarts', 'fifoStalls', 'lineFaults',
+];
+
+function featureHeader(kind) {
+  const bytes = new Uint8Array(FEATURE_REPORT_LEN);
+  bytes[0] = FEATURE_VERSION;
+  bytes[1] = kind;
+  return bytes;
+}
+
+/** A Select: the next GET_REPORT (Feature) returns `kind` (for port diagnostics, of `port`). */
+export function encodeSelect(kind, port = 0) {
+  const bytes = featureHeader(FEATURE_KIND.SELECT);
+  bytes[2] = kind;
+  bytes[3] = port;
+  return bytes;
+}
+
+/** The restart-into-bootloader command (magic "BOOT"). */
+export function encodeEnterBootloader() {
+  const bytes = featureHeader(FEATURE_KIND.ENTER_BOOTLOADER);
+  bytes.set([0x42, 0x4f, 0x4f, 0x54], 2);
+  return bytes;
+}
+
+/** Settings: per port { axialIsY, invertAxial, invertRotation, resolutionCode, sampleRate }. */
+export function encodeSettings(ports) {
+  const bytes = featureHeader(FEATURE_KIND.SETTINGS);
+  ports.forEach((p, i) => {
+    bytes[2 + 3 * i] = (p.axialIsY ? 1 : 0) | (p.invertAxial ? 2 : 0) | (p.invertRotation ? 4 : 0);
+    bytes[3 + 3 * i] = p.resolutionCode;
+    bytes[4 + 3 * i] = p.sampleRate;
+  });
+  return bytes;
+}
+
+/** Decodes a Feature report the board sent (device info, port diagnostics or settings). */
+export function decodeFeature(bytes) {
+  if (bytes.length !== FEATURE_REPORT_LEN || bytes[0] !== FEATURE_VERSION) {
+    throw new Error(`Feature report of ${bytes.length} bytes, version ${bytes[0]}`);
+  }
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  switch (bytes[1]) {
+    case FEATURE_KIND.DEVICE_INFO:
+      return {
+        kind: 'deviceInfo',
+        firmwareVersion: [bytes[2], bytes[3], bytes[4]],
+        gitHash: Buffer.from(bytes.subarray(5, 17)).toString('latin1'),
+        resetReason: bytes[17],
+        uptimeUs: Number(view.getBigUint64(18, true)),
+        presentPorts: bytes[26],
+      };
+    case FEATURE_KIND.PORT_DIAGNOSTICS: {
+      const counters = {};
+      COUNTER_NAMES.forEach((name, i) => {
+        counters[name] = view.getUint32(8 + 4 * i, true);
+      });
+      return {
+        kind: 'portDiagnostics',
+        port: bytes[2],
+        present: (bytes[3] & 1) !== 0,
+        deviceId: bytes[3] & 2 ? bytes[4] : null,
+        counters,
+      };
+    }
+    case FEATURE_KIND.SETTINGS: {
+      const ports = [];
+      for (let i = 0; i < PADDLES; i++) {
+        const flags = bytes[2 + 3 * i];
+        ports.push({
+          axialIsY: (flags & 1) !== 0,
+          invertAxial: (flags & 2) !== 0,
+          invertRotation: (flags & 4) !== 0,
+          resolutionCode: bytes[3 + 3 * i],
+          sampleRate: bytes[4 + 3 * i],
+        });
+      }
+      return { kind: 'settings', ports };
+    }
+    default:
+      throw new Error(`Feature report of kind ${bytes[1]}`);
+  }
+}

@@ -288,6 +288,16 @@ export class UsbHost {
     return this.runTransfer(description);
   }
 
+  /** HID GET_REPORT (Feature, no report id) on the HID interface: `length` bytes. */
+  getFeatureReport(length) {
+    return this.controlIn(0xa1, 0x01, 0x0300, this.info.hid.number, length, 'GET_REPORT(Feature)');
+  }
+
+  /** HID SET_REPORT (Feature, no report id) on the HID interface. */
+  setFeatureReport(bytes) {
+    return this.controlOut(0x21, 0x09, 0x0300, this.info.hid.number, bytes, 'SET_REPORT(Feature)');
+  }
+
   getDescriptor(type, index, length, wIndex = 0, recipient = 0x80) {
     return this.controlIn(recipient, 6, (type << 8) | index, wIndex, length, `GET_DESCRIPTOR(${type}, ${index})`);
   }

@@ -162,6 +162,9 @@ pub struct MouseDriver {
     next_retry_us: u64,
     /// The id the mouse sent after its self-test.
     device_id: Option<u8>,
+    /// [`set_config`](Self::set_config) changed the settings of a streaming mouse:
+    /// send them at the next moment with no command outstanding.
+    config_changed: bool,
     /// A line found stuck low, until a frame shows the port works again.
     line_fault: Option<LineFault>,
     events: DriverEvents,
@@ -191,6 +194,7 @@ impl MouseDriver {
             probe_alive: false,
             next_retry_us: 0,
             device_id: None,
+            config_changed: false,
             line_fault: None,
             events: DriverEvents {
                 framing_error: false,
@@ -279,6 +283,11 @@ impl MouseDriver {
     /// command byte to send (the caller performs request-to-send, clocks it out and
     /// then calls [`on_command_sent`](Self::on_command_sent)).
     pub fn poll(&mut self, now_us: u64) -> Option<u8> {
+        if self.config_changed && self.phase == Phase::Idle && self.state == DriverState::Streaming
+        {
+            self.stats.reconfigurations = self.stats.reconfigurations.wrapping_add(1);
+            self.enter(DriverState::SetSampleRate, now_us);
+        }
         match self.phase {
             Phase::Due => return Some(self.hand_out(now_us)),
             Phase::Sending { since } => {
@@ -351,6 +360,20 @@ impl MouseDriver {
     /// Whether the mouse is initialised and streaming.
     pub fn is_present(&self) -> bool {
         self.state == DriverState::Streaming
+    }
+
+    /// Replaces the configuration. A streaming mouse gets the new sample rate and
+    /// resolution as soon as no command is outstanding (set sample rate, set
+    /// resolution, enable: [`DriverStats::reconfigurations`] counts it); a mouse
+    /// being initialised gets them from the step that sends them; the timeouts
+    /// apply from the next command on. Motion keeps streaming in between.
+    pub fn set_config(&mut self, config: MouseConfig) {
+        let settings_changed = config.sample_rate != self.config.sample_rate
+            || config.resolution != self.config.resolution;
+        self.config = config;
+        if settings_changed && self.state == DriverState::Streaming {
+            self.config_changed = true;
+        }
     }
 
     /// The configuration.
@@ -568,6 +591,10 @@ impl MouseDriver {
 
     /// Enters `state` at `now_us`, setting up its command or deadline.
     fn enter(&mut self, state: DriverState, now_us: u64) {
+        if state == DriverState::SetSampleRate {
+            // The settings about to be sent are the current ones.
+            self.config_changed = false;
+        }
         self.state = state;
         self.resends = 0;
         self.attempts = 0;

@@ -1,0 +1,140 @@
+// Feature reports on the control pipe: diagnostics, settings (applied to the mice,
+// kept across a power cycle) and the restart into the ROM's USB bootloader.
+import { before, describe, it } from 'node:test';
+import assert from 'node:assert/strict';
+import { readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { createRig, firmwareUf2Path, REPO_ROOT } from '../lib/rig.mjs';
+import { inRom } from '../lib/boot-rom.mjs';
+import { UsbTimeout } from '../lib/usb-host.mjs';
+import {
+  decodeFeature,
+  encodeEnterBootloader,
+  encodeSelect,
+  encodeSettings,
+  FEATURE_KIND,
+  FEATURE_REPORT_LEN,
+  RESET_REASON,
+  STATUS,
+} from '../lib/reports.mjs';
+
+const DEFAULT_PORT = { axialIsY: false, invertAxial: false, invertRotation: false, resolutionCode: 3, sampleRate: 200 };
+/** Port 4 as the test sets it: axial = mouse y, rotation = -x, 4 counts/mm, 100/s. */
+const PORT4 = { axialIsY: true, invertAxial: false, invertRotation: true, resolutionCode: 2, sampleRate: 100 };
+
+function firmwareVersion() {
+  const toml = readFileSync(join(REPO_ROOT, 'firmware', 'rp2040', 'Cargo.toml'), 'utf8');
+  return toml.match(/^version\s*=\s*"(\d+)\.(\d+)\.(\d+)"/m).slice(1, 4).map(Number);
+}
+
+/** Boots a rig, enumerates, and runs until all eight mice are present. */
+function bootedRig(options = {}) {
+  const rig = createRig({ uf2Path: firmwareUf2Path(), printLog: process.env.FITL_LOG !== '0', ...options });
+  rig.host.enumerate();
+  rig.host.startPolling();
+  const allPresent = () => {
+    const last = rig.reports(rig.host.inReports.length - 1)[0];
+    return last && last.paddles.every((p) => p.status & STATUS.PRESENT);
+  };
+  assert.ok(rig.board.runUntil(allPresent, 500_000), 'all eight paddles PRESENT');
+  return rig;
+}
+
+function read(host, kind, port = 0) {
+  host.setFeatureReport(encodeSelect(kind, port));
+  return decodeFeature(host.getFeatureReport(FEATURE_REPORT_LEN));
+}
+
+describe('Feature reports', () => {
+  let rig;
+  before(() => {
+    rig = bootedRig();
+  });
+
+  it('reports the firmware version, git hash, reset reason, uptime and present ports', () => {
+    const { board, host } = rig;
+    // After a reset the device info is selected: no Select needed.
+    const info = decodeFeature(host.getFeatureReport(FEATURE_REPORT_LEN));
+    assert.equal(info.kind, 'deviceInfo');
+    assert.deepEqual(info.firmwareVersion, firmwareVersion());
+    assert.match(info.gitHash, /^([0-9a-f]{12}|unknown\?{5})$/);
+    assert.equal(info.resetReason, RESET_REASON.POWER_ON);
+    // The uptime is the board's clock, which starts with the emulation.
+    assert.ok(Math.abs(info.uptimeUs - board.timeUs) < 2_000, `uptime ${info.uptimeUs} µs at ${board.timeUs} µs`);
+    assert.equal(info.presentPorts, 0xff);
+  });
+
+  it('reports each port: present, its device id and its counters', () => {
+    const { host, mice } = rig;
+    for (let port = 0; port < 8; port++) {
+      const diag = read(host, FEATURE_KIND.PORT_DIAGNOSTICS, port);
+      assert.equal(diag.kind, 'portDiagnostics');
+      assert.equal(diag.port, port);
+      assert.equal(diag.present, true);
+      assert.equal(diag.deviceId, 0, 'a standard PS/2 mouse');
+      assert.equal(diag.counters.inits, 1);
+      // Every byte the mouse sent was a frame the board received: the replies to
+      // the five initialisation commands and the self-test's AA 00, at least.
+      assert.ok(diag.counters.frames >= 7, `port ${port}: ${diag.counters.frames} frames`);
+      assert.equal(diag.counters.parityErrors, 0);
+      assert.equal(diag.counters.framingErrors, 0);
+      assert.equal(diag.counters.dropped, 0);
+      assert.ok(mice[port].streaming);
+    }
+  });
+
+  it('rejects a malformed Feature report and keeps reporting', () => {
+    const { board, host } = rig;
+    const bad = encodeEnterBootloader();
+    bad[3] = 0x58; // "BXOT": not the magic
+    const before = host.inReports.length;
+    assert.throws(() => host.setFeatureReport(bad), UsbTimeout, 'rejected (STALL)');
+    assert.ok(board.runUntil(() => board.logMatching(/ignoring malformed Feature report/).length > 0, 2_000));
+    assert.equal(board.rom.usbBoot, null, 'no restart');
+    board.runUs(5_000);
+    assert.ok(host.inReports.length >= before + 4, 'IN reports go on');
+  });
+
+  it('applies new settings: the mouse gets its sample rate and resolution, the axis map turns its motion', () => {
+    const { board, host, mice } = rig;
+    assert.deepEqual(read(host, FEATURE_KIND.SETTINGS).ports, Array(8).fill(DEFAULT_PORT));
+    const mouse = mice[4];
+    const commandsBefore = mouse.received.length;
+    const ports = Array(8).fill(DEFAULT_PORT);
+    ports[4] = PORT4;
+    host.setFeatureReport(encodeSettings(ports));
+    assert.ok(board.runUntil(() => mouse.commands(commandsBefore).length >= 5, 100_000), 'port 4 reconfigured');
+    assert.deepEqual(mouse.commands(commandsBefore), [0xf3, 100, 0xe8, 2, 0xf4]);
+    assert.equal(mouse.sampleRate, 100);
+    assert.equal(mouse.resolution, 2);
+    for (const other of [0, 1, 2, 3, 5, 6, 7]) {
+      assert.equal(mice[other].sampleRate, 200, `port ${other} untouched`);
+    }
+    assert.deepEqual(read(host, FEATURE_KIND.SETTINGS).ports, ports);
+
+    const from = host.inReports.length;
+    mouse.move(150, -90);
+    mice[3].move(150, -90);
+    board.runUs(40_000);
+    const totals = rig.reports(from).reduce(
+      (sum, r) => sum.map((s, i) => ({ axial: s.axial + r.paddles[i].axial, rotation: s.rotation + r.paddles[i].rotation })),
+      Array.from({ length: 8 }, () => ({ axial: 0, rotation: 0 })),
+    );
+    assert.deepEqual(totals[4], { axial: -90, rotation: -150 }, 'port 4: axial = y, rotation = -x');
+    assert.deepEqual(totals[3], { axial: 150, rotation: -90 }, 'port 3: identity');
+  });
+
+  it('restarts into the ROM USB bootloader on request', () => {
+    const { board, host } = rig;
+    host.setFeatureReport(encodeEnterBootloader());
+    const at = board.timeUs;
+    assert.ok(board.runUntil(() => board.rom.usbBoot !== null, 100_000), 'reset_to_usb_boot entered');
+    const { gpioMask, disableMask, timeUs } = board.rom.usbBoot;
+    assert.equal(gpioMask, 0, 'no activity LED');
+    assert.equal(disableMask, 0, 'mass storage and PICOBOOT both on');
+    assert.ok(timeUs - at < 50_000, `entered ${((timeUs - at) / 1000).toFixed(1)} ms after the request`);
+    board.runUs(1_000);
+    assert.ok(inRom(board.rp.core.PC), `PC 0x${(board.rp.core.PC >>> 0).toString(16)} in the boot ROM`);
+    assert.ok(board.logMatching(/restarting into the USB bootloader/).length > 0);
+  });
+});
