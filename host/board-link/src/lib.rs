@@ -44,6 +44,7 @@
 //! ```
 #![deny(missing_docs)]
 
+mod feature;
 pub mod haptics;
 mod link;
 mod receiver;
@@ -202,6 +203,16 @@ pub enum BoardError {
     /// A USB (libusb) error other than the board going away.
     #[error("USB error: {0}")]
     Usb(String),
+    /// The board refused a Feature report request (STALL): its firmware has no
+    /// Feature reports (a version 1 board), or it rejected what was written.
+    #[error("the board does not answer this Feature report request (older firmware?)")]
+    FeatureUnsupported,
+    /// A port number outside `0..8` was asked for.
+    #[error("no port {port} on the board (ports are 0 to 7)")]
+    PortOutOfRange {
+        /// The port asked for.
+        port: u8,
+    },
 }
 
 impl BoardError {

@@ -134,6 +134,15 @@ impl<C: Connector, K: Clock> Link<C, K> {
         self.last_connect_error.as_ref()
     }
 
+    /// The open transport, connecting first if none is open;
+    /// [`BoardError::Disconnected`] (or why connecting failed) otherwise.
+    pub(crate) fn transport_mut(&mut self) -> Result<&mut C::Transport, BoardError> {
+        if self.transport.is_none() {
+            self.connect_now()?;
+        }
+        self.transport.as_mut().ok_or(BoardError::Disconnected)
+    }
+
     fn on_connected(&mut self, transport: C::Transport) {
         if self.ever_connected {
             self.receiver.note_reconnect();

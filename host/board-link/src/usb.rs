@@ -16,9 +16,13 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 
 use foosball_protocol::usb::{PRODUCT_ID, VENDOR_ID};
-use foosball_protocol::{InReport, OutReport, ReportTiming};
+use foosball_protocol::{
+    BoardSettings, DeviceInfo, InReport, OutReport, PortDiagnostics, ReportTiming,
+    FEATURE_REPORT_LEN,
+};
 use rusb::{Context, DeviceHandle, Direction, TransferType, UsbContext};
 
+use crate::feature::{self, FeaturePipe};
 use crate::link::{Connector, Link, ReportBuf, SystemClock, Transport, TransportError};
 use crate::socket_wire::MAX_PAYLOAD;
 use crate::{Board, BoardError, LinkState, LinkStats, DEFAULT_RETRY_INTERVAL};
@@ -37,6 +41,11 @@ const HID_SET_REPORT_REQUEST_TYPE: u8 = 0x21;
 const HID_SET_REPORT: u8 = 0x09;
 /// `wValue` of `SET_REPORT`: report type Output (2) in the high byte, report id 0.
 const HID_OUTPUT_REPORT_NO_ID: u16 = 0x0200;
+/// HID class request `GET_REPORT`, device-to-host, class, interface.
+const HID_GET_REPORT_REQUEST_TYPE: u8 = 0xA1;
+const HID_GET_REPORT: u8 = 0x01;
+/// `wValue` of `GET_REPORT`/`SET_REPORT`: report type Feature (3), report id 0.
+const HID_FEATURE_REPORT_NO_ID: u16 = 0x0300;
 
 /// The real sensor board on USB, found by vendor/product id
 /// ([`foosball_protocol::usb::VENDOR_ID`]:[`foosball_protocol::usb::PRODUCT_ID`]).
@@ -104,6 +113,40 @@ impl UsbBoard {
     /// Sets how often a missing board is looked for again.
     pub fn set_retry_interval(&mut self, interval: Duration) {
         self.link.set_retry_interval(interval);
+    }
+}
+
+/// The board's Feature reports (diagnostics, settings, bootloader; see
+/// [`foosball_protocol::FeatureReport`]), over control transfers on the claimed HID
+/// interface. Each connects first if the board is not open. A board whose firmware
+/// has no Feature reports answers [`BoardError::FeatureUnsupported`]; IN reports
+/// keep flowing meanwhile.
+impl UsbBoard {
+    /// Firmware version and git hash, reset reason, uptime, present ports.
+    pub fn device_info(&mut self) -> Result<DeviceInfo, BoardError> {
+        feature::device_info(self.link.transport_mut()?)
+    }
+
+    /// Port `port`'s (0..8) state, PS/2 device id and counters.
+    pub fn port_diagnostics(&mut self, port: u8) -> Result<PortDiagnostics, BoardError> {
+        feature::port_diagnostics(self.link.transport_mut()?, port)
+    }
+
+    /// The board's settings (axis map, resolution, sample rate per port).
+    pub fn settings(&mut self) -> Result<BoardSettings, BoardError> {
+        feature::settings(self.link.transport_mut()?)
+    }
+
+    /// Writes new settings; the board applies them at once and keeps them in flash.
+    /// A field out of range is refused before anything is sent.
+    pub fn set_settings(&mut self, settings: &BoardSettings) -> Result<(), BoardError> {
+        feature::set_settings(self.link.transport_mut()?, settings)
+    }
+
+    /// Restarts the board into the RP2040's USB bootloader (it comes back as the
+    /// `RPI-RP2` drive, ready for a new UF2); this link then reports it gone.
+    pub fn enter_bootloader(&mut self) -> Result<(), BoardError> {
+        feature::enter_bootloader(self.link.transport_mut()?)
     }
 }
 
@@ -417,6 +460,54 @@ impl Drop for UsbTransport {
             // The thread notices within one READ_TIMEOUT; then the handle is released
             // (interface released, kernel driver re-attached) when the last Arc drops.
             let _ = reader.join();
+        }
+    }
+}
+
+/// A libusb error of a Feature report control transfer: a STALL means the board
+/// does not answer it, not that it is gone.
+fn feature_error(error: rusb::Error, name: &str) -> BoardError {
+    match error {
+        rusb::Error::Pipe => BoardError::FeatureUnsupported,
+        rusb::Error::NoDevice => BoardError::Disconnected,
+        other => BoardError::Usb(format!("{name}: Feature report: {other}")),
+    }
+}
+
+impl FeaturePipe for UsbTransport {
+    fn get_feature(&mut self, buf: &mut [u8; FEATURE_REPORT_LEN]) -> Result<usize, BoardError> {
+        self.handle
+            .read_control(
+                HID_GET_REPORT_REQUEST_TYPE,
+                HID_GET_REPORT,
+                HID_FEATURE_REPORT_NO_ID,
+                u16::from(self.endpoints.interface),
+                buf,
+                WRITE_TIMEOUT,
+            )
+            .map_err(|e| feature_error(e, &self.name))
+    }
+
+    fn set_feature(&mut self, report: &[u8; FEATURE_REPORT_LEN]) -> Result<(), BoardError> {
+        let written = self
+            .handle
+            .write_control(
+                HID_SET_REPORT_REQUEST_TYPE,
+                HID_SET_REPORT,
+                HID_FEATURE_REPORT_NO_ID,
+                u16::from(self.endpoints.interface),
+                report,
+                WRITE_TIMEOUT,
+            )
+            .map_err(|e| feature_error(e, &self.name))?;
+        if written == report.len() {
+            Ok(())
+        } else {
+            Err(BoardError::Usb(format!(
+                "{}: short Feature report ({written} of {} bytes)",
+                self.name,
+                report.len()
+            )))
         }
     }
 }
