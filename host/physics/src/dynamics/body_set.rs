@@ -123,6 +123,30 @@ impl BodySet {
         self.len() - 1
     }
 
+    /// Removes body `i` the way `Vec::swap_remove` does: the last body moves into `i`.
+    pub(crate) fn swap_remove(&mut self, i: usize) {
+        self.name.swap_remove(i);
+        self.kind.swap_remove(i);
+        self.shape.swap_remove(i);
+        self.material.swap_remove(i);
+        self.pos.swap_remove(i);
+        self.rot.swap_remove(i);
+        self.vel.swap_remove(i);
+        self.omega.swap_remove(i);
+        self.inv_mass.swap_remove(i);
+        self.inertia.swap_remove(i);
+        self.inv_inertia.swap_remove(i);
+        self.inv_inertia_world.swap_remove(i);
+        self.awake.swap_remove(i);
+        self.responds.swap_remove(i);
+        self.sleep_time.swap_remove(i);
+        self.aabb.swap_remove(i);
+        self.dp.swap_remove(i);
+        self.dtheta.swap_remove(i);
+        self.force.swap_remove(i);
+        self.torque.swap_remove(i);
+    }
+
     /// What collision detection reads of the bodies.
     pub fn collision_view(&self) -> CollisionBodies<'_> {
         CollisionBodies {

@@ -340,6 +340,15 @@ impl NarrowPhase {
         Some(m)
     }
 
+    /// Forgets the manifolds (and warm starts) that involve body `a` or body `b`: used when a
+    /// body is removed and another moves into its index.
+    pub(crate) fn forget_bodies(&mut self, a: usize, b: usize) {
+        let (a, b) = (a as u32, b as u32);
+        let keep = |m: &Manifold| m.a != a && m.b != a && m.a != b && m.b != b;
+        self.manifolds.retain(keep);
+        self.old.retain(keep);
+    }
+
     /// Forgets every manifold.
     pub fn clear(&mut self) {
         self.manifolds.clear();

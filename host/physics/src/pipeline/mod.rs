@@ -11,6 +11,7 @@
 //!   for what the world holds, valid across inserting and removing other bodies.
 
 pub mod articulated;
+mod body_builder;
 pub mod counters;
 mod drives;
 pub mod effects;
@@ -19,10 +20,14 @@ pub mod integrator;
 pub mod islands;
 mod tree_contacts;
 pub mod world;
+mod world_builder;
 
+pub use body_builder::{BodyBuilder, DEFAULT_DENSITY};
 pub use counters::{Stage, StepCounters};
 pub use drives::{DriveKind, Motor, Trajectory};
 pub use effects::{Effect, Effects};
 pub use handles::{BodyHandle, JointHandle, LinkHandle, TreeHandle};
 pub use integrator::{FreeForces, FreeIntegrator, IntegratorKind};
-pub use world::{SolverSettings, World};
+pub use world::world_joints::{JointBuilder, JointError, JointMut, JointRef};
+pub use world::{BodyMut, BodyRef, SolverSettings, World};
+pub use world_builder::WorldBuilder;

@@ -59,6 +59,14 @@ pub(crate) struct StepGuard {
     time: f64,
 }
 
+impl StepGuard {
+    /// Checks every body's fixed properties again before the next step (after a removal
+    /// moved a body to another index).
+    pub(super) fn recheck_all(&mut self) {
+        self.checked = 0;
+    }
+}
+
 fn finite3(v: &V3) -> bool {
     v.x.is_finite() && v.y.is_finite() && v.z.is_finite()
 }

@@ -11,6 +11,9 @@ use crate::dynamics::solver::{
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
 use crate::geometry::{BroadPhase, NarrowPhase, Shape, V3};
 
+#[path = "ccd.rs"]
+mod ccd;
+
 #[path = "step_guard.rs"]
 mod step_guard;
 
@@ -19,6 +22,16 @@ mod link_proxies;
 
 #[path = "world_bodies.rs"]
 mod world_bodies;
+
+#[path = "world_joints.rs"]
+pub(crate) mod world_joints;
+pub use world_bodies::{BodyMut, BodyRef};
+
+#[path = "world_trees.rs"]
+mod world_trees;
+
+#[path = "world_state.rs"]
+mod world_state;
 
 use super::tree_contacts::{Proxy, TreeContacts, TreeDisplacements};
 
@@ -332,13 +345,30 @@ impl World {
                 dt * (bodies.vel[i].norm()
                     + bodies.omega[i].norm() * bodies.shape[i].bounding_radius())
             };
-            let nc = narrow.update(&bodies.collision_view(), &broad.pairs, |a, b| {
+            let mut nc = narrow.update(&bodies.collision_view(), &broad.pairs, |a, b| {
                 if ccd {
                     spec + sweep(a) + sweep(b)
                 } else {
                     spec
                 }
             });
+            if ccd {
+                // Fast balls keep only the contacts their swept path touches.
+                let sweep = ccd::SweepSettings {
+                    dt,
+                    gravity: if eff.has(Effect::Gravity) {
+                        self.gravity
+                    } else {
+                        V3::zeros()
+                    },
+                    restitution_threshold: eff
+                        .has(Effect::Restitution)
+                        .then_some(self.settings.restitution_threshold),
+                };
+                let (m, p) = ccd::filter_manifolds(&mut narrow.manifolds, bodies, &sweep);
+                nc.manifolds -= m;
+                nc.contacts -= p;
+            }
             self.counters.mark(Stage::NarrowPhase);
             self.counters.pairs_tested = nc.pairs_tested;
             self.counters.manifolds = nc.manifolds;
@@ -659,8 +689,8 @@ impl World {
         }
     }
 
-    /// Body index by name.
-    pub fn body(&self, name: &str) -> Option<usize> {
+    /// Storage index of the first body named `name`.
+    pub(crate) fn body_index(&self, name: &str) -> Option<usize> {
         self.bodies.name.iter().position(|n| n == name)
     }
 

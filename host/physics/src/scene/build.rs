@@ -192,8 +192,8 @@ impl SceneFile {
         );
         world.set_integrator(self.integrator);
         for j in &self.joints {
-            let a = world.body(&j.body1).unwrap_or(0);
-            let b = world.body(&j.body2).unwrap_or(0);
+            let a = world.body_index(&j.body1).unwrap_or(0);
+            let b = world.body_index(&j.body2).unwrap_or(0);
             if let Some(fj) = FreeJoint::new(
                 &world.bodies,
                 a,

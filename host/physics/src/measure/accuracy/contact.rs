@@ -43,7 +43,7 @@ fn ball_scene(kind: IntegratorKind, dt: f64) -> SceneFile {
 
 fn build(s: &SceneFile) -> Result<(World, usize), ContactProblemError> {
     let w = s.build()?;
-    let b = w.body("ball").unwrap_or(1);
+    let b = w.body_index("ball").unwrap_or(1);
     Ok((w, b))
 }
 
