@@ -81,6 +81,11 @@ impl FeatureKind {
         }
     }
 
+    /// Whether only the board sends this kind (device info, port diagnostics).
+    pub const fn is_board_only(self) -> bool {
+        matches!(self, Self::DeviceInfo | Self::PortDiagnostics)
+    }
+
     /// Whether GET_REPORT can return this kind (it can be [`FeatureReport::Select`]ed).
     pub const fn is_readable(self) -> bool {
         matches!(
@@ -434,6 +439,20 @@ impl FeatureReport {
     /// Parses a Feature report, checking its length, version, kind, every field and
     /// that reserved bytes are zero.
     pub fn decode(bytes: &[u8]) -> Result<Self, DecodeError> {
+        Self::decode_kinds(bytes, true)
+    }
+
+    /// [`decode`](Self::decode) for the kinds a host writes ([`FeatureReport::Select`],
+    /// [`FeatureReport::Settings`], [`FeatureReport::EnterBootloader`]); the kinds only
+    /// the board sends are a [`DecodeError::BadField`] `kind`. The board uses this, so
+    /// their parsing is not in its flash.
+    pub fn decode_command(bytes: &[u8]) -> Result<Self, DecodeError> {
+        Self::decode_kinds(bytes, false)
+    }
+
+    /// The decoder; `board_kinds`: accept device info and port diagnostics too.
+    #[inline(always)]
+    fn decode_kinds(bytes: &[u8], board_kinds: bool) -> Result<Self, DecodeError> {
         if bytes.len() != FEATURE_REPORT_LEN {
             return Err(DecodeError::WrongLength {
                 expected: FEATURE_REPORT_LEN,
@@ -446,7 +465,9 @@ impl FeatureReport {
                 supported: FEATURE_REPORT_VERSION,
             });
         }
-        let kind = FeatureKind::from_raw(bytes[1]).ok_or(bad("kind", None, bytes[1]))?;
+        let kind = FeatureKind::from_raw(bytes[1])
+            .filter(|k| board_kinds || !k.is_board_only())
+            .ok_or(bad("kind", None, bytes[1]))?;
         let body = &bytes[HEADER..];
         let (report, used) = match kind {
             FeatureKind::DeviceInfo => {

@@ -110,6 +110,19 @@ proptest! {
     }
 
     #[test]
+    fn the_board_decodes_only_what_a_host_writes(report in feature_report()) {
+        let bytes = report.to_bytes();
+        if report.kind().is_board_only() {
+            prop_assert_eq!(
+                FeatureReport::decode_command(&bytes),
+                Err(DecodeError::BadField { field: "kind", paddle: None, value: report.kind() as u8 })
+            );
+        } else {
+            prop_assert_eq!(FeatureReport::decode_command(&bytes), Ok(report));
+        }
+    }
+
+    #[test]
     fn settings_fields_round_trip(ports in proptest::array::uniform8(port_settings())) {
         let settings = BoardSettings { ports };
         prop_assert_eq!(BoardSettings::decode_fields(&settings.encode_fields()), Ok(settings));
@@ -118,6 +131,7 @@ proptest! {
     #[test]
     fn arbitrary_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..80)) {
         let _ = FeatureReport::decode(&bytes);
+        let _ = FeatureReport::decode_command(&bytes);
         let _ = BoardSettings::decode_fields(&bytes);
     }
 

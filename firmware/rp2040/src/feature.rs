@@ -3,7 +3,7 @@
 //!
 //! GET_REPORT (Feature) returns the kind the last `Select` chose (after a reset:
 //! [`DeviceInfo`]). SET_REPORT (Feature) takes a `Select`, new `Settings` (applied to
-//! the sensor board at once), or
+//! the sensor board at once and handed to [`crate::config_store`] to keep), or
 //! `EnterBootloader` (accepted, then [`bootloader_task`] restarts the chip into the
 //! ROM's USB boot mode once the control transfer has finished). Anything else, or a
 //! malformed report, is rejected (STALL) and logged.
@@ -17,7 +17,7 @@ use foosball_protocol::{
 };
 use sensor_board::{AxisMap, MouseAxis, MouseConfig, Resolution, SensorBoard};
 
-use crate::{haptics, sensor_loop};
+use crate::{config_store, haptics, sensor_loop};
 
 /// The firmware's git commit, from `build.rs`.
 const GIT_HASH: &str = env!("FOOSBALL_GIT_HASH");
@@ -54,13 +54,14 @@ impl FeatureHandler {
 
     /// Takes a report the host wrote; returns whether it was accepted.
     pub fn set(&mut self, bytes: &[u8]) -> bool {
-        match FeatureReport::decode(bytes) {
+        match FeatureReport::decode_command(bytes) {
             Ok(FeatureReport::Select { kind, port }) => {
                 self.selected = (kind, port);
                 true
             }
             Ok(FeatureReport::Settings(settings)) => {
                 sensor_loop::with_board(|board| apply_settings(board, &settings));
+                config_store::save(settings);
                 defmt::info!("settings changed by the host");
                 true
             }
@@ -68,13 +69,8 @@ impl FeatureHandler {
                 BOOTLOADER.signal(());
                 true
             }
-            Ok(other) => {
-                defmt::warn!(
-                    "ignoring Feature report the board only sends: {}",
-                    other.kind()
-                );
-                false
-            }
+            // `decode_command` refuses the kinds only the board sends.
+            Ok(FeatureReport::DeviceInfo(_) | FeatureReport::PortDiagnostics(_)) => false,
             Err(err) => {
                 defmt::warn!("ignoring malformed Feature report: {}", err);
                 false

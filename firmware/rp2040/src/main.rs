@@ -12,6 +12,7 @@
 #![no_main]
 
 mod board_flash;
+mod config_store;
 mod feature;
 mod haptics;
 mod led;
@@ -56,6 +57,10 @@ async fn main(spawner: Spawner) {
     let haptics = haptics::Haptics::new(board.haptics);
     let mut flash = board_flash::open(board.flash);
     let serial = board_flash::serial_number(&mut flash);
+    let (store, kept) = config_store::load(flash);
+    if let Some(settings) = kept {
+        sensor_loop::with_board(|sensors| feature::apply_settings(sensors, &settings));
+    }
     let usb = usb_hid::Usb::new(usb::Driver::new(board.usb, Irqs), serial, reset_reason);
 
     spawner.spawn(unwrap!(sensor_loop::sensor_task(ports, watchdog)));
@@ -65,4 +70,5 @@ async fn main(spawner: Spawner) {
     spawner.spawn(unwrap!(usb_hid::report_in_task(usb.writer)));
     spawner.spawn(unwrap!(usb_hid::report_out_task(usb.reader)));
     spawner.spawn(unwrap!(feature::bootloader_task()));
+    spawner.spawn(unwrap!(config_store::save_task(store)));
 }

@@ -45,3 +45,15 @@ impl Watchdog {
         self.0.feed(TIMEOUT);
     }
 }
+
+/// Gives the running watchdog `timeout` from now (at most 8 s), without the
+/// [`Watchdog`] handle: for a long flash operation with interrupts off. The sensor
+/// loop's next feed puts it back to [`TIMEOUT`].
+pub fn allow(timeout: Duration) {
+    // RP2040-E1: the counter decrements twice per microsecond, so the load value is
+    // twice the microseconds (as embassy-rp's `feed`); 24 bits.
+    let ticks = timeout.as_micros().saturating_mul(2).min(0xFF_FFFF) as u32;
+    embassy_rp::pac::WATCHDOG
+        .load()
+        .write_value(embassy_rp::pac::watchdog::regs::Load(ticks));
+}

@@ -11,6 +11,7 @@
 //!   configure, stream, probe, hot-plug, absent) and 3-byte [`MousePacket`]s.
 //! * [`paddle`]: per-paddle saturating accumulators and the per-port [`AxisMap`].
 //! * [`board`]: eight ports → one [`foosball_protocol::InReport`] per millisecond.
+//! * [`store`]: a record store in NOR flash that survives power cuts (the settings).
 //!
 //! Time is `u64` microseconds since boot everywhere (`*_us`).
 #![no_std]
@@ -20,6 +21,7 @@ pub mod board;
 pub mod mouse;
 pub mod paddle;
 pub mod ps2;
+pub mod store;
 
 pub use board::{BoardConfig, SensorBoard};
 pub use mouse::{

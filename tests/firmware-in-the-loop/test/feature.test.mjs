@@ -124,6 +124,26 @@ describe('Feature reports', () => {
     assert.deepEqual(totals[3], { axial: 150, rotation: -90 }, 'port 3: identity');
   });
 
+  it('keeps the settings across a power cycle (written to flash with a CRC)', () => {
+    const { board } = rig;
+    const erases = board.rom.flashOps.filter((op) => op.op === 'erase');
+    const programs = board.rom.flashOps.filter((op) => op.op === 'program');
+    assert.ok(programs.length >= 1, 'the settings were written');
+    assert.ok(board.logMatching(/settings written to flash/).length > 0);
+    assert.equal(board.watchdogResets, 0, 'no watchdog reset while writing flash');
+    for (const op of [...erases, ...programs]) {
+      // The store's two sectors at the end of the 2 MiB flash, clear of the program.
+      assert.ok(op.offset >= 2 * 1024 * 1024 - 2 * 4096, `flash ${op.op} at 0x${op.offset.toString(16)}`);
+    }
+    const again = bootedRig({ flashImage: Uint8Array.from(board.rp.flash) });
+    const ports = Array(8).fill(DEFAULT_PORT);
+    ports[4] = PORT4;
+    assert.deepEqual(read(again.host, FEATURE_KIND.SETTINGS).ports, ports);
+    assert.deepEqual(again.mice[4].commands().slice(0, 6), [0xff, 0xf3, 100, 0xe8, 2, 0xf4], 'configured from the kept settings');
+    assert.ok(again.board.logMatching(/settings loaded from flash/).length > 0);
+    assert.equal(again.board.watchdogResets, 0);
+  });
+
   it('restarts into the ROM USB bootloader on request', () => {
     const { board, host } = rig;
     host.setFeatureReport(encodeEnterBootloader());
