@@ -85,20 +85,23 @@ impl<'d, PIO: Instance> Ps2Program<'d, PIO> {
             ; threshold 10 (so `!osre` counts the 10 command bits), no autopull.
             ; One cycle = 1 us.
 
+            ; Every falling clock edge, the start bit's too, counts only if the clock
+            ; is still low 10 us after it was seen low: shorter low pulses (glitches;
+            ; PS/2's low phase is at least 30 us) are ignored. Data is sampled then,
+            ; 10-21 us into the low phase.
             receive:
                 set y, 10                 ; 11 bits: start, 8 data, parity, stop
-            rx_bit:
-                in pins, 1                ; sample data while the clock is low
+            rx_next:
+                set x, 11                 ; the clock may stay high 12 x 11 us
+            rx_wait:
+                jmp pin, rx_high [9]      ; clock high: keep waiting
+                jmp pin, rx_high          ; low 10 us ago, high now: a glitch
+                in pins, 1                ; a real low phase: sample data
                 wait 1 pin 1              ; clock released
                 jmp y--, rx_next
                 jmp idle                  ; frame complete (autopush has sent it)
-            rx_next:
-                set x, 31                 ; the clock may stay high 32 x 4 us
-            rx_wait:
-                jmp pin, rx_high
-                jmp rx_bit                ; clock low: the next bit
             rx_high:
-                jmp x--, rx_wait [2]
+                jmp x--, rx_wait
                 mov isr, null             ; timed out: drop the partial frame
 
             .wrap_target

@@ -32,6 +32,8 @@ export class Ps2Mouse {
    *   up to 15 ms); replyDelayUs: from a received command to its answer (≤ 20 ms)
    *   parityErrorRate: fraction of the frames it sends with the parity bit flipped
    *   (a deterministic generator seeded with `seed`)
+   *   clockGlitchRate: fraction of the frames it sends with a glitch on the clock
+   *   line: one `glitchUs` low pulse (default 2 µs) in the high phase after a bit
    */
   constructor(
     board,
@@ -45,6 +47,8 @@ export class Ps2Mouse {
       sampleClock = 1,
       rtsDelayUs = halfPeriodUs,
       parityErrorRate = 0,
+      clockGlitchRate = 0,
+      glitchUs = 2,
       seed = 1,
     },
   ) {
@@ -58,6 +62,10 @@ export class Ps2Mouse {
     this.sampleClock = sampleClock;
     this.rtsDelayNs = rtsDelayUs * US;
     this.parityErrorRate = parityErrorRate;
+    this.clockGlitchRate = clockGlitchRate;
+    this.glitchNs = glitchUs * US;
+    /** Frames sent with a clock glitch. */
+    this.clockGlitchesSent = 0;
     this.random = seed >>> 0 || 1;
     /** Frames sent with a flipped parity bit. */
     this.parityErrorsSent = 0;
@@ -325,10 +333,16 @@ export class Ps2Mouse {
       this.parityErrorsSent++;
     }
     bits.push(parity, 1);
+    // The bit after which the clock glitches, if any.
+    let glitchAfter = -1;
+    if (this.clockGlitchRate > 0 && this.nextRandom() < this.clockGlitchRate) {
+      glitchAfter = Math.floor(this.nextRandom() * 10);
+      this.clockGlitchesSent++;
+    }
     const board = this.board;
     // A burst (out of spec) runs at its own clock.
     const half = this.burst.bytes > 0 ? this.burst.halfNs : this.half;
-    for (const bit of bits) {
+    for (const [i, bit] of bits.entries()) {
       board.setDeviceLow(this.dataPin, bit === 0);
       yield half / 2;
       if (!this.clockHigh()) {
@@ -338,7 +352,16 @@ export class Ps2Mouse {
       board.setDeviceLow(this.clockPin, true);
       yield half;
       board.setDeviceLow(this.clockPin, false);
-      yield half / 2;
+      if (i === glitchAfter) {
+        // Noise: a short low pulse on the clock in its high phase.
+        yield half / 4;
+        board.setDeviceLow(this.clockPin, true);
+        yield this.glitchNs;
+        board.setDeviceLow(this.clockPin, false);
+        yield half / 4 - this.glitchNs;
+      } else {
+        yield half / 2;
+      }
     }
     board.setDeviceLow(this.dataPin, false);
     this.lastFrameEndNs = board.timeNs;

@@ -93,11 +93,14 @@ describe('realistic mice on the wire', () => {
     assert.equal(sum, 120);
   });
 
-  it('1 % parity errors on every mouse lose less than one packet of motion per fault', (t) => {
+  it('clock glitches and 1 % parity errors on every mouse lose less than one packet of motion per fault', (t) => {
     const { board, mice } = rig;
     mice.forEach((m) => {
       m.parityErrorRate = 0.01;
       m.parityErrorsSent = 0;
+      // And a 2 µs low pulse on the clock in 1 % of the frames.
+      m.clockGlitchRate = 0.01;
+      m.clockGlitchesSent = 0;
       m.takeSentMotion();
     });
     const from = rig.host.inReports.length;
@@ -106,22 +109,36 @@ describe('realistic mice on the wire', () => {
       mice.forEach((m, port) => m.move(1 + port, 0));
       board.runUs(1000);
     }
-    mice.forEach((m) => (m.parityErrorRate = 0));
+    mice.forEach((m) => {
+      m.parityErrorRate = 0;
+      m.clockGlitchRate = 0;
+    });
     board.runUs(100_000);
     const reports = rig.reports(from);
     let faults = 0;
+    let glitches = 0;
     mice.forEach((mouse, port) => {
       const sent = mouse.takeSentMotion().dx;
       const received = reports.reduce((s, r) => s + r.paddles[port].axial, 0);
       const lost = sent - received;
       const packet = 5 * (1 + port);
+      const mouseFaults = mouse.parityErrorsSent + mouse.clockGlitchesSent;
       faults += mouse.parityErrorsSent;
-      t.diagnostic(`mouse ${port}: ${mouse.parityErrorsSent} parity errors, ${sent} counts sent, ${lost} lost (a packet: ${packet})`);
+      glitches += mouse.clockGlitchesSent;
+      t.diagnostic(
+        `mouse ${port}: ${mouse.parityErrorsSent} parity errors, ${mouse.clockGlitchesSent} clock glitches, ` +
+          `${sent} counts sent, ${lost} lost (a packet: ${packet})`,
+      );
       assert.ok(received <= sent, `mouse ${port}: more motion reported than sent`);
-      assert.ok(lost < Math.max(1, mouse.parityErrorsSent) * packet, `mouse ${port}: ${lost} counts lost to ${mouse.parityErrorsSent} faults`);
+      assert.ok(lost < Math.max(1, mouseFaults) * packet, `mouse ${port}: ${lost} counts lost to ${mouseFaults} faults`);
       assert.ok(reports.every((r) => r.paddles[port].status & STATUS.PRESENT), `paddle ${port} stays present`);
     });
     assert.ok(faults >= 50, `${faults} parity errors injected`);
+    assert.ok(glitches >= 50, `${glitches} clock glitches injected`);
+    // The receiver ignores the glitches: no frame is garbled by one, so the only
+    // framing errors are none (a glitch that got through would shift a frame).
+    const framing = reports.filter((r) => r.paddles.some((p) => p.status & STATUS.FRAMING_ERROR)).length;
+    assert.equal(framing, 0, 'no frame garbled by a glitch');
     const flagged = reports.filter((r) => r.paddles.some((p) => p.status & STATUS.PARITY_ERROR)).length;
     assert.ok(flagged > 0, 'parity errors are flagged');
   });
