@@ -28,8 +28,8 @@ use embassy_rp::pac;
 use embassy_rp::peripherals::{PIO0, PIO1};
 use embassy_rp::pio::program::{pio_asm, InstructionOperands, SetDestination};
 use embassy_rp::pio::{
-    Common, Config, Direction, Instance, LoadedProgram, Pio, PioPin, ShiftConfig, ShiftDirection,
-    StateMachine,
+    Common, Config, Direction, Instance, LoadedProgram, Pin, Pio, PioPin, ShiftConfig,
+    ShiftDirection, StateMachine,
 };
 use embassy_rp::pio_programs::clock_divider::calculate_pio_clock_divider;
 use embassy_rp::{gpio, Peri};
@@ -177,9 +177,100 @@ pub trait Ps2Port {
     fn send(&mut self, frame: HostFrame, now_us: u64);
 }
 
-/// One PS/2 port on state machine `SM` of PIO block `PIO`.
+/// One PS/2 port on state machine `SM` of PIO block `PIO`: the state machine and
+/// the port's state ([`PortCore`], where the logic is, so that it exists once in
+/// flash rather than once per state machine).
 pub struct PioPs2Port<'d, PIO: Instance, const SM: usize> {
     sm: StateMachine<'d, PIO, SM>,
+    core: PortCore,
+}
+
+/// The state machine configuration of a port with lines `data` and `clock`
+/// (one copy per PIO block, not per state machine).
+#[inline(never)]
+fn port_config<'d, PIO: Instance>(
+    program: &Ps2Program<'d, PIO>,
+    data: &Pin<'d, PIO>,
+    clock: &Pin<'d, PIO>,
+) -> Config<'d, PIO> {
+    let mut cfg = Config::default();
+    cfg.use_program(&program.program, &[]);
+    cfg.set_in_pins(&[data, clock]);
+    cfg.set_jmp_pin(clock);
+    cfg.set_set_pins(&[data, clock]);
+    cfg.set_out_pins(&[data]);
+    cfg.shift_in = ShiftConfig {
+        threshold: FRAME_BITS as u8,
+        direction: ShiftDirection::Right,
+        auto_fill: true,
+    };
+    cfg.shift_out = ShiftConfig {
+        threshold: HOST_FRAME_BITS,
+        direction: ShiftDirection::Right,
+        auto_fill: false,
+    };
+    cfg.clock_divider = calculate_pio_clock_divider(PIO_CLOCK_HZ);
+    cfg
+}
+
+/// What [`PortCore`] needs of a state machine.
+trait Machine {
+    /// `FDEBUG.RXSTALL` for this state machine.
+    fn rx_stalled(&mut self) -> bool;
+    /// Words in the RX FIFO.
+    fn rx_level(&mut self) -> u8;
+    /// The next RX FIFO word, if any.
+    fn rx_pull(&mut self) -> Option<u32>;
+    /// Pushes a word into the TX FIFO.
+    fn tx_push(&mut self, word: u32);
+    /// The program counter.
+    fn addr(&self) -> u8;
+    /// Stops, drops FIFO contents, releases both lines, restarts at `idle_addr`.
+    fn restart_at(&mut self, idle_addr: u8);
+}
+
+impl<PIO: Instance, const SM: usize> Machine for StateMachine<'_, PIO, SM> {
+    fn rx_stalled(&mut self) -> bool {
+        self.rx().stalled()
+    }
+
+    fn rx_level(&mut self) -> u8 {
+        self.rx().level()
+    }
+
+    fn rx_pull(&mut self) -> Option<u32> {
+        self.rx().try_pull()
+    }
+
+    fn tx_push(&mut self, word: u32) {
+        self.tx().push(word);
+    }
+
+    fn addr(&self) -> u8 {
+        self.get_addr()
+    }
+
+    fn restart_at(&mut self, idle_addr: u8) {
+        const RELEASE_BOTH: u16 = InstructionOperands::SET {
+            destination: SetDestination::PINDIRS,
+            data: 0,
+        }
+        .encode();
+        self.set_enable(false);
+        self.restart();
+        self.clear_fifos();
+        // SAFETY: the state machine is stopped; SET PINDIRS touches only this port's
+        // two lines (SET base/count from the config) and JMP only moves its PC.
+        unsafe {
+            self.exec_instr(RELEASE_BOTH);
+            self.exec_jmp(idle_addr);
+        }
+        self.set_enable(true);
+    }
+}
+
+/// One port's state, apart from its state machine.
+struct PortCore {
     /// Where the program was loaded.
     origin: u8,
     /// Absolute address of the idle loop's entry.
@@ -220,64 +311,35 @@ impl<'d, PIO: Instance, const SM: usize> PioPs2Port<'d, PIO, SM> {
         sm.set_pins(gpio::Level::Low, &[&data, &clock]);
         sm.set_pin_dirs(Direction::In, &[&data, &clock]);
 
-        let mut cfg = Config::default();
-        cfg.use_program(&program.program, &[]);
-        cfg.set_in_pins(&[&data, &clock]);
-        cfg.set_jmp_pin(&clock);
-        cfg.set_set_pins(&[&data, &clock]);
-        cfg.set_out_pins(&[&data]);
-        cfg.shift_in = ShiftConfig {
-            threshold: FRAME_BITS as u8,
-            direction: ShiftDirection::Right,
-            auto_fill: true,
-        };
-        cfg.shift_out = ShiftConfig {
-            threshold: HOST_FRAME_BITS,
-            direction: ShiftDirection::Right,
-            auto_fill: false,
-        };
-        cfg.clock_divider = calculate_pio_clock_divider(PIO_CLOCK_HZ);
-        sm.set_config(&cfg);
+        sm.set_config(&port_config(program, &data, &clock));
 
         let origin = program.program.origin;
-        let data_pin = data.pin();
-        let mut port = Self {
+        let idle_addr = (origin + program.idle) % 32;
+        sm.restart_at(idle_addr);
+        Self {
             sm,
-            origin,
-            idle_addr: (origin + program.idle) % 32,
-            transfer_offset: program.tx_bits,
-            data_pin,
-            send_deadline: None,
-            abandoned: false,
-            stalled_words: None,
-        };
-        port.restart();
-        port
+            core: PortCore {
+                origin,
+                idle_addr,
+                transfer_offset: program.tx_bits,
+                data_pin: data.pin(),
+                send_deadline: None,
+                abandoned: false,
+                stalled_words: None,
+            },
+        }
     }
+}
 
-    /// Stops the state machine, drops FIFO contents, releases both lines and
-    /// restarts it in the idle loop.
-    fn restart(&mut self) {
-        const RELEASE_BOTH: u16 = InstructionOperands::SET {
-            destination: SetDestination::PINDIRS,
-            data: 0,
-        }
-        .encode();
-        self.sm.set_enable(false);
-        self.sm.restart();
-        self.sm.clear_fifos();
-        // SAFETY: the state machine is stopped; SET PINDIRS touches only this port's
-        // two lines (SET base/count from the config) and JMP only moves its PC.
-        unsafe {
-            self.sm.exec_instr(RELEASE_BOTH);
-            self.sm.exec_jmp(self.idle_addr);
-        }
-        self.sm.set_enable(true);
+impl PortCore {
+    /// Restarts the state machine in the idle loop.
+    fn restart(&self, sm: &mut dyn Machine) {
+        sm.restart_at(self.idle_addr);
     }
 
     /// The next frame or command completion from the RX FIFO, if any.
-    fn pull_event(&mut self) -> Option<Ps2Event> {
-        while let Some(word) = self.sm.rx().try_pull() {
+    fn pull_event(&mut self, sm: &mut dyn Machine) -> Option<Ps2Event> {
+        while let Some(word) = sm.rx_pull() {
             if word & COMPLETION_MARK == 0 {
                 let raw = (word >> (32 - FRAME_BITS)) as u16;
                 return Some(Ps2Event::Frame(Ps2Frame::from_raw(raw)));
@@ -297,8 +359,8 @@ impl<'d, PIO: Instance, const SM: usize> PioPs2Port<'d, PIO, SM> {
     }
 
     /// Why the command in flight failed, judged from where the program waits.
-    fn stuck_reason(&self) -> SendError {
-        let offset = self.sm.get_addr().wrapping_sub(self.origin) % 32;
+    fn stuck_reason(&self, sm: &dyn Machine) -> SendError {
+        let offset = sm.addr().wrapping_sub(self.origin) % 32;
         // The transfer part runs from `tx_bits` to the end of the program; before it
         // the device has not produced a single clock.
         if offset >= self.transfer_offset {
@@ -307,18 +369,19 @@ impl<'d, PIO: Instance, const SM: usize> PioPs2Port<'d, PIO, SM> {
             SendError::NoClock
         }
     }
-}
 
-impl<PIO: Instance, const SM: usize> Ps2Port for PioPs2Port<'_, PIO, SM> {
-    fn next_event(&mut self, now_us: u64) -> Option<Ps2Event> {
-        if self.stalled_words.is_none() && self.sm.rx().stalled() {
+    /// [`Ps2Port::next_event`].
+    // Once in flash, not once per state machine.
+    #[inline(never)]
+    fn next_event(&mut self, sm: &mut dyn Machine, now_us: u64) -> Option<Ps2Event> {
+        if self.stalled_words.is_none() && sm.rx_stalled() {
             // The words queued before the stall are whole frames: deliver them first.
-            self.stalled_words = Some(self.sm.rx().level());
+            self.stalled_words = Some(sm.rx_level());
         }
         if let Some(left) = self.stalled_words {
             if left > 0 {
                 self.stalled_words = Some(left - 1);
-                if let Some(event) = self.pull_event() {
+                if let Some(event) = self.pull_event(sm) {
                     return Some(event);
                 }
             }
@@ -326,31 +389,30 @@ impl<PIO: Instance, const SM: usize> Ps2Port for PioPs2Port<'_, PIO, SM> {
             // now is not trustworthy. Start over on the next start bit.
             self.stalled_words = None;
             self.abandoned = self.send_deadline.take().is_some();
-            self.restart();
+            self.restart(sm);
             return Some(Ps2Event::RxStall);
         }
         if self.abandoned {
             self.abandoned = false;
             return Some(Ps2Event::Sent(Err(SendError::Timeout)));
         }
-        if let Some(event) = self.pull_event() {
+        if let Some(event) = self.pull_event(sm) {
             return Some(event);
         }
         match self.send_deadline {
             Some(deadline) if now_us >= deadline => {
-                let reason = self.stuck_reason();
+                let reason = self.stuck_reason(sm);
                 self.send_deadline = None;
-                self.restart();
+                self.restart(sm);
                 Some(Ps2Event::Sent(Err(reason)))
             }
             _ => None,
         }
     }
 
-    fn sending(&self) -> bool {
-        self.send_deadline.is_some() || self.abandoned
-    }
-
+    /// [`Ps2Port::line_fault`].
+    // Once in flash, not once per state machine.
+    #[inline(never)]
     fn line_fault(&self) -> Option<LineFault> {
         // The wire levels as the GPIOs read them (SIO input, bank 0).
         let levels = pac::SIO.gpio_in(0).read();
@@ -364,16 +426,37 @@ impl<PIO: Instance, const SM: usize> Ps2Port for PioPs2Port<'_, PIO, SM> {
         }
     }
 
-    fn send(&mut self, frame: HostFrame, now_us: u64) {
+    /// [`Ps2Port::send`].
+    // Once in flash, not once per state machine.
+    #[inline(never)]
+    fn send(&mut self, sm: &mut dyn Machine, frame: HostFrame, now_us: u64) {
         if self.send_deadline.take().is_some() {
-            self.restart();
+            self.restart(sm);
         }
         // The program pulls the data line low for a 1 in the word: invert the levels.
         let word = COMMAND_MARK | u32::from(!frame.raw() & HOST_FRAME_MASK);
         // Nothing else is queued (one command at a time, FIFOs cleared on restart),
         // so the 4-word TX FIFO has room.
-        self.sm.tx().push(word);
+        sm.tx_push(word);
         self.send_deadline = Some(now_us + SEND_TIMEOUT_US);
+    }
+}
+
+impl<PIO: Instance, const SM: usize> Ps2Port for PioPs2Port<'_, PIO, SM> {
+    fn next_event(&mut self, now_us: u64) -> Option<Ps2Event> {
+        self.core.next_event(&mut self.sm, now_us)
+    }
+
+    fn sending(&self) -> bool {
+        self.core.send_deadline.is_some() || self.core.abandoned
+    }
+
+    fn line_fault(&self) -> Option<LineFault> {
+        self.core.line_fault()
+    }
+
+    fn send(&mut self, frame: HostFrame, now_us: u64) {
+        self.core.send(&mut self.sm, frame, now_us);
     }
 }
 
