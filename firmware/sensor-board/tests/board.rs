@@ -5,8 +5,8 @@ mod common;
 use common::{FakeMouse, MS};
 use foosball_protocol::{InReport, PaddleStatus};
 use sensor_board::{
-    AxisMap, BoardConfig, DriverState, MouseAxis, MousePacket, Ps2Frame, SendError, SensorBoard,
-    PORTS,
+    AxisMap, BoardConfig, DriverState, MouseAxis, MouseConfig, MousePacket, Ps2Frame, Resolution,
+    SendError, SensorBoard, PORTS,
 };
 
 /// A board wired to eight emulated mice, stepped once per millisecond.
@@ -188,6 +188,55 @@ fn axis_maps_are_per_port() {
     assert!(report.paddles[4..]
         .iter()
         .all(|p| (p.axial, p.rotation) == (0, 0)));
+}
+
+#[test]
+fn set_port_changes_one_ports_map_and_mouse_while_streaming() {
+    let mut bench = Bench::new(BoardConfig::default());
+    bench.bring_up();
+    let map = AxisMap {
+        axial: MouseAxis::Y,
+        invert_axial: false,
+        invert_rotation: true,
+    };
+    let mouse = MouseConfig {
+        sample_rate: 100,
+        resolution: Resolution::CountsPerMm4,
+        ..MouseConfig::default()
+    };
+    bench.board.set_port(5, mouse, map);
+    bench.board.set_port(PORTS, mouse, map); // out of range: ignored
+    for _ in 0..50 {
+        bench.tick();
+    }
+    assert_eq!(bench.mice[5].sample_rate, 100);
+    assert_eq!(bench.mice[5].resolution, 2);
+    assert_eq!(
+        bench.mice[4].sample_rate, 200,
+        "the other ports keep theirs"
+    );
+    assert_eq!(bench.board.driver(5).unwrap().config(), &mouse);
+    assert_eq!(bench.board.config().axis_maps[5], map);
+    assert!(bench.board.is_present(5), "streaming again");
+    // Configured again without a reset: one more completed initialisation, no absence.
+    let stats = bench.board.driver(5).unwrap().stats();
+    assert_eq!(
+        (stats.inits, stats.reconfigurations, stats.absences),
+        (2, 1, 0)
+    );
+    for port in [4, 5] {
+        let now = bench.now;
+        bench.mice[port].move_by(now, 10, -3);
+    }
+    let mut sum = [(0, 0); 2];
+    for _ in 0..20 {
+        let report = bench.tick();
+        for (s, p) in sum.iter_mut().zip(&report.paddles[4..6]) {
+            s.0 += p.axial;
+            s.1 += p.rotation;
+        }
+    }
+    assert_eq!(sum, [(10, -3), (-3, -10)]);
 }
 
 #[test]

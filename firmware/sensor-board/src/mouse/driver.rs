@@ -363,10 +363,11 @@ impl MouseDriver {
     }
 
     /// Replaces the configuration. A streaming mouse gets the new sample rate and
-    /// resolution as soon as no command is outstanding (set sample rate, set
-    /// resolution, enable: [`DriverStats::reconfigurations`] counts it); a mouse
-    /// being initialised gets them from the step that sends them; the timeouts
-    /// apply from the next command on. Motion keeps streaming in between.
+    /// resolution as soon as no command is outstanding, without a reset: set sample
+    /// rate, set resolution, enable (a few milliseconds in which the port is not
+    /// present; counted in [`DriverStats::reconfigurations`] and, once streaming
+    /// again, [`DriverStats::inits`]). A mouse being initialised gets them from the
+    /// step that sends them; the timeouts apply from the next command on.
     pub fn set_config(&mut self, config: MouseConfig) {
         let settings_changed = config.sample_rate != self.config.sample_rate
             || config.resolution != self.config.resolution;

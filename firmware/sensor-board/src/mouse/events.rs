@@ -68,7 +68,8 @@ pub struct DriverStats {
     /// Receiver overflows: the RX FIFO was full, bits were lost and the receiver was
     /// restarted (reported by the platform, [`crate::MouseDriver::on_rx_stall`]).
     pub fifo_stalls: u32,
-    /// Times a status request showed settings other than the configured ones (the
-    /// mouse restarted unseen) and the mouse was configured again.
+    /// Times the mouse was configured again without a reset: a status request
+    /// showed settings other than the configured ones (it restarted unseen), or
+    /// [`crate::MouseDriver::set_config`] changed them.
     pub reconfigurations: u32,
 }
