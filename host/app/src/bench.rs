@@ -17,6 +17,12 @@
 //!   plus a 2 ms lead for the packet's time on the PS/2 wire (what headless play uses,
 //!   `input_latency_ms`), without the lead, and without prediction; and how far the
 //!   predicted rod overshoots when the emulated rod stops.
+//! * **Input latency on board time**: the same ramp with the tracker on the board's
+//!   clock (`PaddleTracker::set_device_time_tracking`) and no prediction horizon: the
+//!   emulated board sends version 2 reports (device time, per-paddle packet age), each
+//!   packet's motion is placed at its board time (packet end less its 2.64 ms on the
+//!   PS/2 wire), the velocity rebuilt from the packets, and the pose carried to the
+//!   report's time. Median, mean and worst over the ramp, and its overshoot.
 
 use anyhow::{bail, Context, Result};
 use foosball_sim::motion::script::MotionScript;
@@ -94,7 +100,7 @@ fn time_steps(args: &MatchArgs) -> Result<(Vec<f64>, [u32; 2], u64)> {
         times.push(dt.as_secs_f64() * 1e6);
     }
     times.sort_by(f64::total_cmp);
-    Ok((times, m.score(), m.arena().pinned_steps()))
+    Ok((times, m.score(), m.arena().physics_errors()))
 }
 
 fn percentile(sorted: &[f64], p: f64) -> f64 {
@@ -119,15 +125,25 @@ struct Latency {
     slide_worst: f64,
     angle_mean: f64,
     angle_worst: f64,
+    /// Median over the ramp's steps, slide and angle delays together.
+    median: f64,
     /// Largest slide past the final pose after the ramp stops, m.
     overshoot_slide_m: f64,
     /// Largest angle past the final pose after the ramp stops, rad.
     overshoot_angle_rad: f64,
 }
 
-/// Latency of the Home attack rod with a pose prediction horizon of `prediction_ms`
-/// and a lead of `lead_ms`.
-fn latency(prediction_ms: u64, lead_ms: u64) -> Result<Latency> {
+/// How the tracker of a latency run turns reports into poses.
+#[derive(Debug, Clone, Copy)]
+enum Tracking {
+    /// Report time, with a pose prediction horizon and a lead, ms (0, 0: none).
+    Fixed { prediction_ms: u64, lead_ms: u64 },
+    /// The board's clock (version 2 timing), no prediction horizon.
+    BoardTime,
+}
+
+/// Latency of the Home attack rod tracked as `tracking` says.
+fn latency(tracking: Tracking) -> Result<Latency> {
     let table = crate::headless::load_table("standard")?;
     let rod = 5;
     let port = table.rods[rod].port;
@@ -142,8 +158,16 @@ fn latency(prediction_ms: u64, lead_ms: u64) -> Result<Latency> {
         InProcessBoard::with_motion(BoardConfig::default(), Box::new(script), Pacing::Lockstep)
             .context("emulated board")?;
     let mut input = BoardInput::new(board, &table, Calibration::default());
-    input.tracker_mut().set_prediction_ms(prediction_ms);
-    input.tracker_mut().set_prediction_lead_ms(lead_ms);
+    match tracking {
+        Tracking::Fixed {
+            prediction_ms,
+            lead_ms,
+        } => {
+            input.tracker_mut().set_prediction_ms(prediction_ms);
+            input.tracker_mut().set_prediction_lead_ms(lead_ms);
+        }
+        Tracking::BoardTime => input.tracker_mut().set_device_time_tracking(true),
+    }
     let mut m = Match::new(MatchConfig::player_vs_computer(table.clone(), 1))?;
     let sign = table.rods[rod].handle_sign();
     let (mut slide, mut angle) = (Vec::new(), Vec::new());
@@ -174,9 +198,15 @@ fn latency(prediction_ms: u64, lead_ms: u64) -> Result<Latency> {
     if slide.is_empty() {
         bail!("latency ramp produced no samples");
     }
+    if matches!(tracking, Tracking::BoardTime) && !input.tracker().is_device_timed() {
+        bail!("the emulated board's reports carried no board time");
+    }
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     let worst = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let mut both: Vec<f64> = slide.iter().chain(&angle).copied().collect();
+    both.sort_by(f64::total_cmp);
     Ok(Latency {
+        median: percentile(&both, 0.5),
         slide_mean: mean(&slide),
         slide_worst: worst(&slide),
         angle_mean: mean(&angle),
@@ -190,14 +220,21 @@ fn run_match(args: &MatchArgs) -> Result<()> {
     if args.steps == 0 {
         bail!("--steps must be at least 1");
     }
-    let (times, score, pinned) = time_steps(args)?;
+    let (times, score, physics_errors) = time_steps(args)?;
     let mean = times.iter().sum::<f64>() / times.len() as f64;
     let median = percentile(&times, 0.5);
     let p99 = percentile(&times, 0.99);
     let worst = times.last().copied().unwrap_or(f64::NAN);
-    let predicted = latency(MOUSE_PACKET_PREDICTION_MS, PS2_WIRE_LEAD_MS)?;
-    let packet_only = latency(MOUSE_PACKET_PREDICTION_MS, 0)?;
-    let raw = latency(0, 0)?;
+    let fixed = |prediction_ms, lead_ms| {
+        latency(Tracking::Fixed {
+            prediction_ms,
+            lead_ms,
+        })
+    };
+    let predicted = fixed(MOUSE_PACKET_PREDICTION_MS, PS2_WIRE_LEAD_MS)?;
+    let packet_only = fixed(MOUSE_PACKET_PREDICTION_MS, 0)?;
+    let raw = fixed(0, 0)?;
+    let board_time = latency(Tracking::BoardTime)?;
     let input_latency = 0.5 * (predicted.slide_mean + predicted.angle_mean);
     let input_worst = predicted.slide_worst.max(predicted.angle_worst);
     let raw_latency = 0.5 * (raw.slide_mean + raw.angle_mean);
@@ -213,10 +250,9 @@ fn run_match(args: &MatchArgs) -> Result<()> {
                 "step_us_p99": p99,
                 "steps": times.len(),
                 "table": args.table,
-                "world_steps_max": arena.world_steps,
                 "substeps": arena.substeps,
                 "score_during_bench": score,
-                "pinned_rod_steps": pinned,
+                "physics_errors": physics_errors,
                 "input_latency_worst_ms": input_worst,
                 "input_latency_slide_ms": predicted.slide_mean,
                 "input_latency_angle_ms": predicted.angle_mean,
@@ -227,6 +263,13 @@ fn run_match(args: &MatchArgs) -> Result<()> {
                 "prediction_overshoot_angle_rad": predicted.overshoot_angle_rad,
                 "input_latency_unpredicted_ms": raw_latency,
                 "input_latency_unpredicted_worst_ms": raw.slide_worst.max(raw.angle_worst),
+                "input_latency_median_ms": predicted.median,
+                "input_latency_unpredicted_median_ms": raw.median,
+                "input_latency_board_time_median_ms": board_time.median,
+                "input_latency_board_time_ms": 0.5 * (board_time.slide_mean + board_time.angle_mean),
+                "input_latency_board_time_worst_ms": board_time.slide_worst.max(board_time.angle_worst),
+                "board_time_overshoot_slide_mm": board_time.overshoot_slide_m * 1e3,
+                "board_time_overshoot_angle_rad": board_time.overshoot_angle_rad,
                 "board_report_period_ms": 1,
                 "mouse_sample_rate_hz": 200,
                 "release_build": !cfg!(debug_assertions),
@@ -252,10 +295,15 @@ fn run_match(args: &MatchArgs) -> Result<()> {
                 &packet_only,
             ),
             ("unpredicted".to_string(), &raw),
+            (
+                "on board time, unpredicted (v2 reports)".to_string(),
+                &board_time,
+            ),
         ] {
             println!(
-                "  {name}: slide {:.2} ms (worst {:.2}), angle {:.2} ms (worst {:.2}); \
-                 overshoot at a stop {:.2} mm, {:.3} rad",
+                "  {name}: median {:.2} ms; slide {:.2} ms (worst {:.2}), angle {:.2} ms \
+                 (worst {:.2}); overshoot at a stop {:.2} mm, {:.3} rad",
+                l.median,
                 l.slide_mean,
                 l.slide_worst,
                 l.angle_mean,

@@ -26,11 +26,18 @@
 //!   from the kept poses.
 //! * **Absent sensor** (no [`PaddleStatus::PRESENT`]): that rod keeps its pose with zero
 //!   velocity and [`RodState::present`] is false.
+//! * **Board time** ([`PaddleTracker::set_device_time_tracking`], off by default): when
+//!   reports carry the board's timing (version 2), each packet's motion is placed at its
+//!   time on the board's clock, the velocity is rebuilt from the packets on that clock
+//!   and the pose carried to the report's time ([`super::tracker`]), in place of the
+//!   report-time velocity and the fixed prediction horizon. Version 1 reports are
+//!   tracked as before.
 
 use super::calibration::{Calibration, PaddleCalibration};
+use super::tracker::{DeviceClock, DeviceTrack};
 use crate::table::{Rod, Table};
 use board_link::{Board, BoardError, LinkState};
-use foosball_protocol::{InReport, PaddleStatus};
+use foosball_protocol::{InReport, PaddleStatus, ReportTiming};
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 use std::time::Duration;
@@ -99,6 +106,8 @@ struct RodTrack {
     history: VecDeque<(u64, f64, f64)>,
     /// Report time of the latest report whose counts moved this rod, ms.
     last_motion_ms: u64,
+    /// The packets on the board's clock (version 2 reports).
+    device: DeviceTrack,
     state: RodState,
 }
 
@@ -112,6 +121,7 @@ impl RodTrack {
             bias: [0.0; 2],
             history: VecDeque::with_capacity(VELOCITY_WINDOW_MS as usize + 2),
             last_motion_ms: 0,
+            device: DeviceTrack::default(),
             state: RodState::default(),
         }
     }
@@ -151,8 +161,17 @@ impl RodTrack {
         self.state.angular_velocity_rad_per_s = self.sign * v_angle;
     }
 
+    /// The pose in the paddle frame, as the counts give it now.
+    fn paddle_frame_pose(&self) -> [f64; 2] {
+        [
+            self.sign * self.state.slide_m,
+            self.sign * self.state.angle_rad,
+        ]
+    }
+
     fn freeze(&mut self) {
         self.history.clear();
+        self.device.clear();
         self.state.slide_velocity_m_per_s = 0.0;
         self.state.angular_velocity_rad_per_s = 0.0;
     }
@@ -169,6 +188,12 @@ pub struct PaddleTracker {
     health: InputHealth,
     prediction_ms: u64,
     prediction_lead_ms: u64,
+    /// Whether timed reports are tracked on the board's clock.
+    device_time: bool,
+    /// The board's clock, unwrapped.
+    clock: DeviceClock,
+    /// Whether the latest report was tracked on the board's clock.
+    timed: bool,
 }
 
 impl PaddleTracker {
@@ -184,6 +209,9 @@ impl PaddleTracker {
             health: InputHealth::Waiting,
             prediction_ms: 0,
             prediction_lead_ms: 0,
+            device_time: false,
+            clock: DeviceClock::default(),
+            timed: false,
         };
         for rod in &mut tracker.rods {
             let cal = tracker.calibration.paddles[rod.port];
@@ -193,8 +221,16 @@ impl PaddleTracker {
         tracker
     }
 
-    /// Takes one IN report.
+    /// Takes one IN report without timing (version 1).
     pub fn apply_report(&mut self, report: &InReport) {
+        self.apply_timed_report(report, None);
+    }
+
+    /// Takes one IN report with its timing when the board sent version 2
+    /// ([`board_link::Board::last_timing`]); with board-time tracking on
+    /// ([`PaddleTracker::set_device_time_tracking`]) the timing places each packet's
+    /// motion on the board's clock.
+    pub fn apply_timed_report(&mut self, report: &InReport, timing: Option<&ReportTiming>) {
         let dt = match self.last_sequence {
             Some(last) => {
                 let d = u64::from(report.sequence.wrapping_sub(last));
@@ -211,6 +247,17 @@ impl PaddleTracker {
         self.last_sequence = Some(report.sequence);
         self.time_ms += dt;
         self.health = InputHealth::Live;
+        let timing = timing.filter(|_| self.device_time);
+        if let Some(timing) = timing {
+            if !self.clock.advance(timing.device_time_us) {
+                // The board restarted: its earlier packets are on another clock.
+                for rod in &mut self.rods {
+                    rod.device.clear();
+                }
+            }
+        }
+        self.timed = timing.is_some();
+        let now_us = self.clock.now_us();
         for rod in &mut self.rods {
             let paddle = report.paddles[rod.port];
             rod.state.present = paddle.status.contains(PaddleStatus::PRESENT);
@@ -225,6 +272,11 @@ impl PaddleTracker {
             }
             let cal = self.calibration.paddles[rod.port];
             rod.update(&cal, self.time_ms);
+            if let Some(timing) = timing {
+                let age = timing.paddles[rod.port].newest_packet_age.as_micros();
+                let pose = rod.paddle_frame_pose();
+                rod.device.observe(now_us, age, pose);
+            }
         }
     }
 
@@ -270,6 +322,22 @@ impl PaddleTracker {
         track.freeze();
     }
 
+    /// Tracks timed (version 2) reports on the board's clock (off by default): each
+    /// packet's motion at its board time, the velocity rebuilt from the packets, the
+    /// pose carried to the report's time ([`super::tracker`]). The fixed prediction
+    /// ([`PaddleTracker::set_prediction_ms`]) then applies only to untimed reports.
+    pub fn set_device_time_tracking(&mut self, on: bool) {
+        self.device_time = on;
+        if !on {
+            self.timed = false;
+        }
+    }
+
+    /// Whether the newest report was tracked on the board's clock.
+    pub fn is_device_timed(&self) -> bool {
+        self.timed
+    }
+
     /// Predicts poses up to `ms` milliseconds ahead (0 = off, the default): see
     /// [`PaddleTracker::inputs`].
     pub fn set_prediction_ms(&mut self, ms: u64) {
@@ -313,7 +381,20 @@ impl PaddleTracker {
 
     fn predicted(&self, r: &RodTrack) -> RodState {
         let mut state = r.state;
-        if self.prediction_ms == 0 || self.health != InputHealth::Live || !state.present {
+        if self.health != InputHealth::Live || !state.present {
+            return state;
+        }
+        if self.timed {
+            let (pose, velocity) = r
+                .device
+                .estimate(self.clock.now_us(), r.paddle_frame_pose());
+            state.slide_m = (r.sign * pose[0]).clamp(-r.half_travel_m, r.half_travel_m);
+            state.angle_rad = r.sign * pose[1];
+            state.slide_velocity_m_per_s = r.sign * velocity[0];
+            state.angular_velocity_rad_per_s = r.sign * velocity[1];
+            return state;
+        }
+        if self.prediction_ms == 0 {
             return state;
         }
         let age_ms = self
@@ -366,7 +447,8 @@ impl<B: Board> BoardInput<B> {
         while taken < max_reports {
             match self.board.poll_report(Duration::ZERO) {
                 Ok(Some(report)) => {
-                    self.tracker.apply_report(&report);
+                    let timing = self.board.last_timing();
+                    self.tracker.apply_timed_report(&report, timing.as_ref());
                     taken += 1;
                 }
                 Ok(None) => break,
