@@ -12,10 +12,9 @@ use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::signal::Signal;
 use embassy_time::{Duration, Timer};
 use foosball_protocol::{
-    BoardSettings, DeviceInfo, FeatureKind, FeatureReport, PortCounters, PortDiagnostics,
-    PortSettings, ResetReason, GIT_HASH_LEN, PADDLES,
+    DeviceInfo, FeatureKind, FeatureReport, ResetReason, GIT_HASH_LEN, PADDLES,
 };
-use sensor_board::{AxisMap, MouseAxis, MouseConfig, Resolution, SensorBoard};
+use sensor_board::SensorBoard;
 
 use crate::{config_store, haptics, sensor_loop};
 
@@ -43,10 +42,11 @@ impl FeatureHandler {
     pub fn get(&self, buf: &mut [u8]) -> Option<usize> {
         let (kind, port) = self.selected;
         let report = sensor_loop::with_board(|board| match kind {
+            // A Select names a port in 0..8 (decoding checked it).
             FeatureKind::PortDiagnostics => {
-                FeatureReport::PortDiagnostics(port_diagnostics(board, port))
+                FeatureReport::PortDiagnostics(board.port_diagnostics(port).unwrap_or_default())
             }
-            FeatureKind::Settings => FeatureReport::Settings(settings_of(board)),
+            FeatureKind::Settings => FeatureReport::Settings(board.settings()),
             _ => FeatureReport::DeviceInfo(self.device_info(board)),
         });
         report.encode(buf).ok()
@@ -60,7 +60,7 @@ impl FeatureHandler {
                 true
             }
             Ok(FeatureReport::Settings(settings)) => {
-                sensor_loop::with_board(|board| apply_settings(board, &settings));
+                sensor_loop::with_board(|board| board.apply_settings(&settings));
                 config_store::save(settings);
                 defmt::info!("settings changed by the host");
                 true
@@ -90,82 +90,6 @@ impl FeatureHandler {
             uptime_us: sensor_loop::now_us(),
             present_ports: board.present_mask(),
         }
-    }
-}
-
-/// One port's state and counters.
-fn port_diagnostics(board: &SensorBoard, port: u8) -> PortDiagnostics {
-    let Some(driver) = board.driver(usize::from(port)) else {
-        return PortDiagnostics {
-            port,
-            ..PortDiagnostics::default()
-        };
-    };
-    let s = driver.stats();
-    PortDiagnostics {
-        port,
-        present: driver.is_present(),
-        device_id: driver.device_id(),
-        counters: PortCounters {
-            frames: s.frames,
-            packets: s.packets,
-            framing_errors: s.framing_errors,
-            parity_errors: s.parity_errors,
-            resends: s.resends,
-            dropped: s.dropped,
-            retries: s.retries,
-            absences: s.absences,
-            inits: s.inits,
-            restarts: s.restarts,
-            fifo_stalls: s.fifo_stalls,
-            line_faults: s.line_faults,
-        },
-    }
-}
-
-/// The board's current settings, port by port.
-pub fn settings_of(board: &SensorBoard) -> BoardSettings {
-    let mut settings = BoardSettings::DEFAULT;
-    for (index, port) in settings.ports.iter_mut().enumerate() {
-        let (Some(driver), Some(map)) = (board.driver(index), board.config().axis_maps.get(index))
-        else {
-            continue;
-        };
-        let mouse = driver.config();
-        *port = PortSettings {
-            axial_is_y: map.axial == MouseAxis::Y,
-            invert_axial: map.invert_axial,
-            invert_rotation: map.invert_rotation,
-            resolution_code: mouse.resolution.code(),
-            sample_rate: mouse.sample_rate,
-        };
-    }
-    settings
-}
-
-/// Applies `settings` to every port (axis maps at once, mouse settings as the
-/// driver can send them).
-pub fn apply_settings(board: &mut SensorBoard, settings: &BoardSettings) {
-    for (index, port) in settings.ports.iter().enumerate().take(PADDLES) {
-        let Some(driver) = board.driver(index) else {
-            continue;
-        };
-        let mouse = MouseConfig {
-            sample_rate: port.sample_rate,
-            // Decoding checked the code (0..=3); the default stands in otherwise.
-            resolution: Resolution::from_code(port.resolution_code).unwrap_or_default(),
-            ..*driver.config()
-        };
-        let map = AxisMap {
-            axial: if port.axial_is_y {
-                MouseAxis::Y
-            } else {
-                MouseAxis::X
-            },
-            invert_axial: port.invert_axial,
-            invert_rotation: port.invert_rotation,
-        };
-        board.set_port(index, mouse, map);
     }
 }
 

@@ -59,7 +59,7 @@ async fn main(spawner: Spawner) {
     let serial = board_flash::serial_number(&mut flash);
     let (store, kept) = config_store::load(flash);
     if let Some(settings) = kept {
-        sensor_loop::with_board(|sensors| feature::apply_settings(sensors, &settings));
+        sensor_loop::with_board(|sensors| sensors.apply_settings(&settings));
     }
     let usb = usb_hid::Usb::new(usb::Driver::new(board.usb, Irqs), serial, reset_reason);
 

@@ -12,6 +12,8 @@
 //! * [`paddle`]: per-paddle saturating accumulators and the per-port [`AxisMap`].
 //! * [`board`]: eight ports → one [`foosball_protocol::InReport`] per millisecond.
 //! * [`store`]: a record store in NOR flash that survives power cuts (the settings).
+//! * the Feature reports' view of the board: [`SensorBoard::settings`],
+//!   [`SensorBoard::apply_settings`], [`SensorBoard::port_diagnostics`].
 //!
 //! Time is `u64` microseconds since boot everywhere (`*_us`).
 #![no_std]
@@ -21,6 +23,7 @@ pub mod board;
 pub mod mouse;
 pub mod paddle;
 pub mod ps2;
+mod settings;
 pub mod store;
 
 pub use board::{BoardConfig, SensorBoard};

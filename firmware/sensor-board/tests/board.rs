@@ -3,7 +3,7 @@
 mod common;
 
 use common::{FakeMouse, MS};
-use foosball_protocol::{InReport, PaddleStatus};
+use foosball_protocol::{BoardSettings, InReport, PaddleStatus, PortSettings};
 use sensor_board::{
     AxisMap, BoardConfig, DriverState, MouseAxis, MouseConfig, MousePacket, Ps2Frame, Resolution,
     SendError, SensorBoard, PORTS,
@@ -237,6 +237,37 @@ fn set_port_changes_one_ports_map_and_mouse_while_streaming() {
         }
     }
     assert_eq!(sum, [(10, -3), (-3, -10)]);
+}
+
+#[test]
+fn feature_report_views_of_the_board() {
+    let mut bench = Bench::new(BoardConfig::default());
+    assert_eq!(bench.board.settings(), BoardSettings::DEFAULT);
+    bench.bring_up();
+    let diag = bench.board.port_diagnostics(3).expect("port 3");
+    assert!(diag.present);
+    assert_eq!(diag.port, 3);
+    assert_eq!(diag.counters.inits, 1);
+    assert!(diag.counters.frames > 0);
+    assert_eq!(bench.board.port_diagnostics(8), None);
+
+    let mut settings = BoardSettings::DEFAULT;
+    settings.ports[6] = PortSettings {
+        axial_is_y: true,
+        invert_axial: true,
+        invert_rotation: false,
+        resolution_code: 1,
+        sample_rate: 40,
+    };
+    bench.board.apply_settings(&settings);
+    assert_eq!(bench.board.settings(), settings);
+    for _ in 0..50 {
+        bench.tick();
+    }
+    assert_eq!(
+        (bench.mice[6].sample_rate, bench.mice[6].resolution),
+        (40, 1)
+    );
 }
 
 #[test]
