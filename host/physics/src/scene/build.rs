@@ -1,13 +1,17 @@
 //! Parsing and building a world from a scene.
 
-use super::format::{BodyKindDesc, DriveDesc, PartShapeDesc, SceneFile, ShapeDesc, TrajectoryDesc};
+use super::format::{
+    BodyKindDesc, DriveDesc, JointDesc, PartShapeDesc, SceneFile, ShapeDesc, TrajectoryDesc,
+};
 use super::SceneError;
 use crate::algebra::{exp_so3, SE3};
-use crate::dynamics::solver::FreeJoint;
 use crate::dynamics::{BodyKind, BodySet, Material};
 use crate::geometry::{Compound, CompoundError, CompoundMass, PartDesc, Shape, V3};
 use crate::pipeline::articulated::ArticulatedSystem;
-use crate::pipeline::{Effect, Effects, Motor, SolverSettings, Trajectory, World};
+use crate::model::description::JointDescription;
+use crate::pipeline::{
+    BodyHandle, Effect, Effects, JointBuilder, Motor, SolverSettings, Trajectory, World,
+};
 
 fn v(a: [f64; 3]) -> V3 {
     V3::new(a[0], a[1], a[2])
@@ -191,19 +195,25 @@ impl SceneFile {
             settings,
         );
         world.set_integrator(self.integrator);
-        for j in &self.joints {
-            let a = world.body_index(&j.body1).unwrap_or(0);
-            let b = world.body_index(&j.body2).unwrap_or(0);
-            if let Some(fj) = FreeJoint::new(
-                &world.bodies,
-                a,
-                b,
-                v(j.anchor),
-                &j.kind,
-                v(j.axis.unwrap_or([0.0; 3])),
-            ) {
-                world.add_joint(fj);
-            }
+        for (i, j) in self.joints.iter().enumerate() {
+            let handle = |name: &str| {
+                world
+                    .body_index(name)
+                    .and_then(|k| world.body_handles().nth(k))
+            };
+            let problem = |message: String| {
+                SceneError::Invalid(vec![super::Problem {
+                    path: format!("joints[{i}]"),
+                    message,
+                }])
+            };
+            let (Some(a), Some(b)) = (handle(&j.body1), handle(&j.body2)) else {
+                return Err(problem("unknown body".into()));
+            };
+            let builder = j.builder(a, b).map_err(problem)?;
+            world
+                .insert_joint(builder)
+                .map_err(|e| problem(e.to_string()))?;
         }
         let g = if self.effects.contains(&Effect::Gravity) {
             v(self.gravity)
@@ -286,4 +296,41 @@ fn drive(mut sys: ArticulatedSystem, dof: usize, d: &DriveDesc) -> ArticulatedSy
         sys = sys.with_prescribed(dof, trajectory);
     }
     sys
+}
+
+impl JointDesc {
+    /// The joint's builder between bodies `a` and `b`: the model joint from `type`, `axis`
+    /// and `axis2` (world axes are the joint frame's), its motors, limits and armature. An
+    /// error names what the model rejects (an unknown type, a missing or zero axis).
+    pub fn builder(&self, a: BodyHandle, b: BodyHandle) -> Result<JointBuilder, String> {
+        let description = JointDescription {
+            kind: self.kind.clone(),
+            axis: self.axis,
+            axis2: self.axis2,
+        };
+        let model = crate::model::joints::from_description::<f64>(&description)
+            .map_err(|e| e.to_string())?;
+        let mut builder = JointBuilder::new(model.as_ref(), a, b).anchor(v(self.anchor));
+        for m in &self.motors {
+            builder = builder.motor(
+                m.coordinate,
+                Motor {
+                    target_position: m.target_position,
+                    target_velocity: m.target_velocity,
+                    stiffness: m.stiffness,
+                    damping: m.damping,
+                    max_force: m.max_force,
+                },
+            );
+        }
+        for l in &self.limits {
+            builder = builder
+                .limits(l.coordinate, l.lower, l.upper)
+                .limit_restitution(l.coordinate, l.restitution);
+        }
+        for (dof, &x) in self.armature.iter().enumerate() {
+            builder = builder.armature(dof, x);
+        }
+        Ok(builder)
+    }
 }

@@ -255,24 +255,86 @@ pub struct BodyDesc {
     pub material: Option<String>,
 }
 
-/// A joint between two free bodies.
+/// A joint between two bodies, stated by the model's joint types (as in articulated models'
+/// `JointDescription`). The joint frame has its origin at `anchor` and the world axes, so
+/// `axis` and `axis2` are world directions; the joint's coordinates are zero at the initial
+/// poses.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct JointDesc {
-    /// `ball`, `revolute` or `fixed`.
-    #[serde(rename = "type")]
+    /// `revolute`, `prismatic`, `cylindrical`, `universal`, `ball`, `free` or `fixed`. The
+    /// key is `type`; `kind` is read as another name for it.
+    #[serde(rename = "type", alias = "kind")]
     pub kind: String,
-    /// First body (name).
+    /// First body (name): body A, whose joint frame the coordinates are measured in.
     pub body1: String,
-    /// Second body (name).
+    /// Second body (name): body B.
     pub body2: String,
-    /// Anchor (m, world, at the initial poses).
+    /// Anchor: the joint frame's origin (m, world, at the initial poses).
     /// Each coordinate within ±1e5 m.
     pub anchor: [f64; 3],
-    /// Hinge axis (world, revolute only).
+    /// The joint's axis (world): revolute, prismatic, cylindrical, and a universal joint's
+    /// first axis (fixed in body 1).
     /// Normalised on load: its length must be 1e-6 … 1e6.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axis: Option<[f64; 3]>,
+    /// A universal joint's second axis (world, fixed in body 2; not parallel to `axis`).
+    /// Normalised on load: its length must be 1e-6 … 1e6.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axis2: Option<[f64; 3]>,
+    /// Motors on the joint's coordinates (at most one per coordinate).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub motors: Vec<JointMotorDesc>,
+    /// Travel limits of the joint's coordinates (at most one per coordinate).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub limits: Vec<JointLimitsDesc>,
+    /// Armature of each coordinate in order (kg·m² on an angle, kg on a slide), 0 … 1e9; at
+    /// most as many entries as the joint has driven coordinates.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub armature: Vec<f64>,
+}
+
+/// A motor on one coordinate of a joint between bodies:
+/// `τ = stiffness (target_position − q) + damping (target_velocity − q̇)`, `|τ| ≤ max_force`.
+/// Coordinates: revolute 0 = angle; prismatic 0 = slide; cylindrical 0 = angle, 1 = slide;
+/// universal 0, 1 = the angles about `axis` and `axis2`. Ball, free and fixed joints have
+/// no driven coordinates.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointMotorDesc {
+    /// Which coordinate (default 0).
+    #[serde(default)]
+    pub coordinate: usize,
+    /// Target position (rad or m), within ±1e5; absent: a velocity motor.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target_position: Option<f64>,
+    /// Target velocity (rad/s or m/s), within ±1e5.
+    #[serde(default)]
+    pub target_velocity: f64,
+    /// Stiffness (N·m/rad or N/m), 0 … 1e9.
+    #[serde(default)]
+    pub stiffness: f64,
+    /// Damping (N·m·s/rad or N·s/m), 0 … 1e9.
+    #[serde(default)]
+    pub damping: f64,
+    /// Largest torque or force (N·m or N), 0 … 1e9.
+    pub max_force: f64,
+}
+
+/// Travel limits of one coordinate of a joint between bodies.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointLimitsDesc {
+    /// Which coordinate (default 0).
+    #[serde(default)]
+    pub coordinate: usize,
+    /// Lower limit (rad or m), within ±1e5.
+    pub lower: f64,
+    /// Upper limit (rad or m), within ±1e5, ≥ `lower`.
+    pub upper: f64,
+    /// Restitution at the limits, 0 … 1 (default 0: the coordinate stops).
+    #[serde(default)]
+    pub restitution: f64,
 }
 
 /// An articulated tree and its initial state.

@@ -14,8 +14,9 @@ mod validate;
 
 pub use error::{Problem, SceneError};
 pub use format::{
-    ArticulatedDesc, BodyDesc, BodyKindDesc, DampingDesc, DriveDesc, JointDesc, LinkShapeDesc,
-    MaterialDesc, MotorDesc, PartShapeDesc, SceneFile, ShapeDesc, SolverDesc, TrajectoryDesc,
+    ArticulatedDesc, BodyDesc, BodyKindDesc, DampingDesc, DriveDesc, JointDesc, JointLimitsDesc,
+    JointMotorDesc, LinkShapeDesc, MaterialDesc, MotorDesc, PartShapeDesc, SceneFile, ShapeDesc,
+    SolverDesc, TrajectoryDesc,
 };
 pub use validate::limits;
 

@@ -565,12 +565,6 @@ impl SceneFile {
         }
         for (j, jd) in self.joints.iter().enumerate() {
             let p = format!("joints[{j}]");
-            if !matches!(jd.kind.as_str(), "ball" | "revolute" | "fixed") {
-                r.add(
-                    format!("{p}.type"),
-                    format!("unknown joint type '{}' (ball, revolute, fixed)", jd.kind),
-                );
-            }
             let lookup = |r: &mut Report, field: &str, name: &str| {
                 let i = names.get(name).copied();
                 if i.is_none() {
@@ -589,12 +583,7 @@ impl SceneFile {
                     r.add(&p, "at least one of the two bodies must be dynamic");
                 }
             }
-            r.coords3(&format!("{p}.anchor"), &jd.anchor, limits::POSITION_M, "m");
-            match (&jd.axis, jd.kind.as_str()) {
-                (None, "revolute") => r.add(format!("{p}.axis"), "a revolute joint needs an axis"),
-                (Some(a), _) => r.direction(&format!("{p}.axis"), a),
-                _ => {}
-            }
+            validate_joint(&mut r, &p, jd);
         }
 
         // Articulated trees.
@@ -1448,5 +1437,136 @@ fn tree_extras(
                 }
             }
         }
+    }
+}
+
+/// A joint's type, axes, motors, limits and armature (the bodies are checked by the caller).
+fn validate_joint(r: &mut Report, p: &str, jd: &super::format::JointDesc) {
+    const TYPES: &str = "revolute, prismatic, cylindrical, universal, ball, free, fixed";
+    let t = jd.kind.as_str();
+    let (needs_axis, driven) = match t {
+        "revolute" | "prismatic" => (true, 1),
+        "cylindrical" | "universal" => (true, 2),
+        "ball" | "free" | "fixed" => (false, 0),
+        other => {
+            r.add(
+                format!("{p}.type"),
+                format!("unknown joint type '{other}' ({TYPES})"),
+            );
+            (false, 0)
+        }
+    };
+    r.coords3(&format!("{p}.anchor"), &jd.anchor, limits::POSITION_M, "m");
+    match &jd.axis {
+        None if needs_axis => r.add(format!("{p}.axis"), format!("a {t} joint needs an axis")),
+        Some(a) => r.direction(&format!("{p}.axis"), a),
+        None => {}
+    }
+    match (&jd.axis2, t) {
+        (None, "universal") => r.add(
+            format!("{p}.axis2"),
+            "a universal joint needs a second axis",
+        ),
+        (Some(a2), "universal") => {
+            r.direction(&format!("{p}.axis2"), a2);
+            if let Some(a1) = &jd.axis {
+                let unit = |a: &[f64; 3]| {
+                    let n = norm(a);
+                    [a[0] / n, a[1] / n, a[2] / n]
+                };
+                let (u, w) = (unit(a1), unit(a2));
+                let c = [
+                    u[1] * w[2] - u[2] * w[1],
+                    u[2] * w[0] - u[0] * w[2],
+                    u[0] * w[1] - u[1] * w[0],
+                ];
+                let s = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+                if s.is_finite() && s < 1e-6 {
+                    r.add(
+                        format!("{p}.axis2"),
+                        "must not be parallel to axis (a universal joint turns about two axes)",
+                    );
+                }
+            }
+        }
+        (Some(_), _) => r.add(format!("{p}.axis2"), "only a universal joint takes axis2"),
+        (None, _) => {}
+    }
+    let coordinate = |r: &mut Report, path: String, k: usize, seen: &mut [bool; 2]| -> bool {
+        if k >= driven {
+            let which = if driven == 0 {
+                format!("a {t} joint has no driven coordinates (motors, limits and armature act on revolute, prismatic, cylindrical and universal joints)")
+            } else {
+                format!(
+                    "a {t} joint has {driven} driven coordinate(s) (0 … {}), got {k}",
+                    driven - 1
+                )
+            };
+            r.add(path, which);
+            return false;
+        }
+        if seen[k] {
+            r.add(path, format!("coordinate {k} is given twice"));
+            return false;
+        }
+        seen[k] = true;
+        true
+    };
+    let q_range = (-limits::TREE_Q, limits::TREE_Q);
+    let mut seen = [false; 2];
+    for (i, m) in jd.motors.iter().enumerate() {
+        let mp = format!("{p}.motors[{i}]");
+        coordinate(r, format!("{mp}.coordinate"), m.coordinate, &mut seen);
+        if let Some(x) = m.target_position {
+            r.range(&format!("{mp}.target_position"), x, q_range, "");
+        }
+        r.range(
+            &format!("{mp}.target_velocity"),
+            m.target_velocity,
+            q_range,
+            "",
+        );
+        for (f, x) in [
+            ("stiffness", m.stiffness),
+            ("damping", m.damping),
+            ("max_force", m.max_force),
+        ] {
+            r.non_negative(&format!("{mp}.{f}"), x, 1e9, "");
+        }
+    }
+    let mut seen = [false; 2];
+    for (i, l) in jd.limits.iter().enumerate() {
+        let lp = format!("{p}.limits[{i}]");
+        coordinate(r, format!("{lp}.coordinate"), l.coordinate, &mut seen);
+        r.range(&format!("{lp}.lower"), l.lower, q_range, "");
+        r.range(&format!("{lp}.upper"), l.upper, q_range, "");
+        if l.lower.is_finite() && l.upper.is_finite() && l.upper < l.lower {
+            r.add(
+                format!("{lp}.upper"),
+                format!(
+                    "must be at least lower ({}), got {}",
+                    num(l.lower),
+                    num(l.upper)
+                ),
+            );
+        }
+        r.range(
+            &format!("{lp}.restitution"),
+            l.restitution,
+            (0.0, 1.0),
+            "",
+        );
+    }
+    if jd.armature.len() > driven {
+        r.add(
+            format!("{p}.armature"),
+            format!(
+                "a {t} joint has {driven} driven coordinate(s), got {} armature value(s)",
+                jd.armature.len()
+            ),
+        );
+    }
+    for (k, &x) in jd.armature.iter().enumerate() {
+        r.non_negative(&format!("{p}.armature[{k}]"), x, 1e9, "");
     }
 }

@@ -1,108 +1,344 @@
-//! Joints between free bodies (ball, revolute, fixed), solved as soft constraints in the same
-//! substeps as the contacts. Anchors are stored in each body's frame (m); a revolute axis in
-//! each body's frame (unit). A kinematic or fixed body on one side makes a hinge to the world
-//! or to a driven part (the foosball rod).
+//! Joints between free bodies, solved as soft constraints in the same substeps as the
+//! contacts. A joint is one of the model's joint types ([`FreeJointKind`], read from a
+//! `model::Joint`) at a joint frame — an anchor point and three axes, given in world
+//! coordinates when the joint is made and stored in each body's frame. At that moment the
+//! joint's coordinates are zero; afterwards body B's joint frame moves relative to body A's as
+//! the joint type allows.
+//!
+//! The constrained directions are the complement of the joint's motion subspace:
+//!
+//! | type | linear rows | angular rows |
+//! |---|---|---|
+//! | revolute | 3 (anchors coincide) | 2 (⊥ the axis: `u_A × u_B = 0`) |
+//! | prismatic | 2 (⊥ the axis, measured in A) | 3 (relative rotation stays) |
+//! | cylindrical | 2 | 2 |
+//! | universal | 3 | 1 (`u₁ · u₂` stays) |
+//! | ball | 3 | 0 |
+//! | fixed | 3 | 3 |
+//! | free | 0 | 0 |
+//!
+//! The angular errors of revolute and cylindrical joints do not depend on the angle about the
+//! axis, so any number of turns keeps them aligned. Each coordinate of a revolute, prismatic,
+//! cylindrical or universal joint can carry a motor, limits and an armature
+//! ([`super::joint_dofs`]); its value is continuous across turns.
+//!
+//! A kinematic or fixed body on one side makes a joint to the world or to a driven part (the
+//! foosball rod).
 
+use super::joint_dofs::{DofDrive, DofState};
+use super::joint_kind::FreeJointKind;
 use super::Softness;
 use crate::algebra::log_so3;
 use crate::dynamics::BodySet;
 use crate::geometry::{M3, V3};
 
-/// The kind of a joint between two free bodies.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum FreeJointKind {
-    /// Point-to-point: the anchors coincide, rotation free.
-    Ball,
-    /// Hinge: anchors coincide and the two axes stay aligned.
-    Revolute {
-        /// Axis in body A's frame (unit).
-        axis_a: V3,
-        /// Axis in body B's frame (unit).
-        axis_b: V3,
-    },
-    /// Weld: anchors coincide and the relative rotation stays `rel = R_aᵀ R_b` (initial).
-    Fixed {
-        /// Relative rotation to keep.
-        rel: M3,
-    },
-}
+type M6 = nalgebra::Matrix6<f64>;
+
+/// Driven coordinates a joint holds at most (cylindrical and universal joints have two).
+pub const MAX_DRIVEN_DOFS: usize = 2;
 
 /// A joint between bodies `a` and `b` and its solver state.
 #[derive(Clone, Copy, Debug)]
 pub struct FreeJoint {
-    /// Body A.
-    pub a: usize,
-    /// Body B.
-    pub b: usize,
-    /// What it constrains.
-    pub kind: FreeJointKind,
+    /// Body A (storage index).
+    pub(crate) a: usize,
+    /// Body B (storage index).
+    pub(crate) b: usize,
+    kind: FreeJointKind,
     /// Anchor in A's frame (m).
-    pub local_a: V3,
+    local_a: V3,
     /// Anchor in B's frame (m).
-    pub local_b: V3,
-    ra: V3,
+    local_b: V3,
+    /// Joint axes in A's frame (columns).
+    frame_a: M3,
+    /// Joint axes in B's frame (columns).
+    frame_b: M3,
+    /// The substep the motors and limits integrate over (s).
+    substep: f64,
+    dofs: [DofState; MAX_DRIVEN_DOFS],
     rb: V3,
     ima: f64,
     imb: f64,
     ia: M3,
     ib: M3,
-    lin_mass: M3,
-    ang_mass: M3,
+    /// The constraint rows (the first `n_rows`), their inverse block `K⁻¹ = (J M⁻¹ Jᵀ)⁻¹`
+    /// and their accumulated impulses (N·s or N·m·s along each row's unit direction).
+    rows: [Row; 6],
+    n_rows: usize,
+    k_inv: M6,
+    lambda: [f64; 6],
+    /// The accumulated impulses as vectors (world): linear, angular, for re-expressing them
+    /// in the next substep's rows.
     lin_impulse: V3,
     ang_impulse: V3,
 }
 
-#[inline]
-fn skew(v: &V3) -> M3 {
-    M3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
+/// `x` wrapped into (−π, π].
+fn wrap(x: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let y = x - TAU * (x / TAU).round();
+    if y <= -PI {
+        y + TAU
+    } else {
+        y
+    }
+}
+
+/// The angle about unit `n` that takes `v` to `w` (both projected onto the plane ⊥ `n`).
+fn angle_about(n: &V3, v: &V3, w: &V3) -> f64 {
+    let vp = v - n * n.dot(v);
+    let wp = w - n * n.dot(w);
+    n.dot(&vp.cross(&wp)).atan2(vp.dot(&wp))
+}
+
+/// A unit vector ⊥ unit `u`.
+fn perpendicular(u: &V3) -> V3 {
+    let t = if u.x.abs() < 0.6 { V3::x() } else { V3::y() };
+    u.cross(&t).normalize()
+}
+
+/// One row: its rate is `lin·(v_B − v_A) + ang_b·ω_B − ang_a·ω_A`; a constraint row also
+/// has its unit direction `dir` (world), linear or angular.
+#[derive(Clone, Copy, Debug, Default)]
+struct Row {
+    lin: V3,
+    ang_a: V3,
+    ang_b: V3,
+    dir: V3,
+    linear: bool,
+}
+
+impl Row {
+    fn linear(n: V3, arm_a: &V3, rb: &V3) -> Self {
+        Self {
+            lin: n,
+            ang_a: arm_a.cross(&n),
+            ang_b: rb.cross(&n),
+            dir: n,
+            linear: true,
+        }
+    }
+
+    fn angular(g: V3) -> Self {
+        Self {
+            lin: V3::zeros(),
+            ang_a: g,
+            ang_b: g,
+            dir: g,
+            linear: false,
+        }
+    }
+}
+
+/// The joint frames in world coordinates for the current poses.
+struct Frames {
+    ra: V3,
+    rb: V3,
+    /// Anchor of B − anchor of A (m, world).
+    d: V3,
+    /// Joint axes of A and of B (world, columns).
+    rot_a: M3,
+    rot_b: M3,
 }
 
 impl FreeJoint {
-    /// A joint whose anchor is `anchor` (m, world) with the bodies' current poses; a revolute
-    /// axis `axis` is given in world coordinates.
-    pub fn new(
+    /// A joint of type `kind` between bodies `a` and `b` (storage indices, valid, distinct)
+    /// whose joint frame has its origin at `anchor` (m, world) and the columns of `axes`
+    /// (a rotation, world) as axes, at the bodies' current poses. `substep` is the substep
+    /// the motors and limits integrate over (s).
+    pub(crate) fn new(
         bodies: &BodySet,
         a: usize,
         b: usize,
+        kind: FreeJointKind,
         anchor: V3,
-        kind: &str,
-        axis: V3,
-    ) -> Option<Self> {
-        let (ra, rb) = (&bodies.rot[a], &bodies.rot[b]);
-        let kind = match kind {
-            "ball" => FreeJointKind::Ball,
-            "revolute" => {
-                let ax = axis.try_normalize(1e-12)?;
-                FreeJointKind::Revolute {
-                    axis_a: ra.tr_mul(&ax),
-                    axis_b: rb.tr_mul(&ax),
-                }
-            }
-            "fixed" => FreeJointKind::Fixed { rel: ra.tr_mul(rb) },
-            _ => return None,
-        };
-        Some(Self {
+        axes: M3,
+        substep: f64,
+    ) -> Self {
+        let (rot_a, rot_b) = (&bodies.rot[a], &bodies.rot[b]);
+        Self {
             a,
             b,
             kind,
-            local_a: ra.tr_mul(&(anchor - bodies.pos[a])),
-            local_b: rb.tr_mul(&(anchor - bodies.pos[b])),
-            ra: V3::zeros(),
+            local_a: rot_a.tr_mul(&(anchor - bodies.pos[a])),
+            local_b: rot_b.tr_mul(&(anchor - bodies.pos[b])),
+            frame_a: rot_a.tr_mul(&axes),
+            frame_b: rot_b.tr_mul(&axes),
+            substep,
+            dofs: [DofState::default(); MAX_DRIVEN_DOFS],
             rb: V3::zeros(),
             ima: 0.0,
             imb: 0.0,
             ia: M3::zeros(),
             ib: M3::zeros(),
-            lin_mass: M3::zeros(),
-            ang_mass: M3::zeros(),
+            rows: [Row::default(); 6],
+            n_rows: 0,
+            k_inv: M6::zeros(),
+            lambda: [0.0; 6],
             lin_impulse: V3::zeros(),
             ang_impulse: V3::zeros(),
+        }
+    }
+
+    /// The joint type.
+    pub fn kind(&self) -> FreeJointKind {
+        self.kind
+    }
+
+    /// The two bodies (storage indices).
+    pub(crate) fn bodies(&self) -> (usize, usize) {
+        (self.a, self.b)
+    }
+
+    /// The substep the motors and limits integrate over (s).
+    pub(crate) fn set_substep(&mut self, h: f64) {
+        self.substep = h;
+    }
+
+    /// What drives coordinate `dof` (`None` past the driven coordinates).
+    pub fn drive(&self, dof: usize) -> Option<&DofDrive> {
+        (dof < self.kind.driven_dofs()).then(|| &self.dofs[dof].drive)
+    }
+
+    /// What drives coordinate `dof`, to change it (`None` past the driven coordinates).
+    pub fn drive_mut(&mut self, dof: usize) -> Option<&mut DofDrive> {
+        (dof < self.kind.driven_dofs()).then(|| &mut self.dofs[dof].drive)
+    }
+
+    /// The torque or force the motor of `dof` gave in the last substep (N·m or N, along the
+    /// coordinate, on B; A takes the opposite).
+    pub fn motor_force(&self, dof: usize) -> Option<f64> {
+        (dof < self.kind.driven_dofs() && self.substep > 0.0)
+            .then(|| self.dofs[dof].motor_impulse / self.substep)
+    }
+
+    /// The torque or force the limits of `dof` gave in the last substep (N·m or N, along the
+    /// coordinate, on B: positive pushes away from the lower limit).
+    pub fn limit_force(&self, dof: usize) -> Option<f64> {
+        (dof < self.kind.driven_dofs() && self.substep > 0.0).then(|| {
+            let l = self.dofs[dof].limit_impulse;
+            (l[0] - l[1]) / self.substep
         })
+    }
+
+    /// The value of coordinate `dof` at the bodies' current poses (rad or m; angles count
+    /// whole turns), `None` past the driven coordinates.
+    pub fn position(&self, bodies: &BodySet, dof: usize) -> Option<f64> {
+        (dof < self.kind.driven_dofs())
+            .then(|| self.coordinate(&self.frames(bodies), dof, self.dofs[dof].q))
+    }
+
+    /// The rate of coordinate `dof` at the bodies' current velocities (rad/s or m/s).
+    pub fn rate(&self, bodies: &BodySet, dof: usize) -> Option<f64> {
+        (dof < self.kind.driven_dofs()).then(|| {
+            let f = self.frames(bodies);
+            let arm_a = f.ra + f.d;
+            self.row_rate(bodies, &self.dof_row(&f, &arm_a, dof))
+        })
+    }
+
+    fn frames(&self, bodies: &BodySet) -> Frames {
+        let (a, b) = (self.a, self.b);
+        let ra = bodies.rot[a] * self.local_a;
+        let rb = bodies.rot[b] * self.local_b;
+        Frames {
+            ra,
+            rb,
+            d: bodies.pos[b] + rb - bodies.pos[a] - ra,
+            rot_a: bodies.rot[a] * self.frame_a,
+            rot_b: bodies.rot[b] * self.frame_b,
+        }
+    }
+
+    /// Coordinate `dof` from the frames; angles continue from `prev` (within half a turn).
+    fn coordinate(&self, f: &Frames, dof: usize, prev: f64) -> f64 {
+        let rel = f.rot_a.tr_mul(&f.rot_b);
+        let raw = match (self.kind, dof) {
+            (FreeJointKind::Prismatic { axis }, _) | (FreeJointKind::Cylindrical { axis }, 1) => {
+                return (f.rot_a * axis).dot(&f.d);
+            }
+            (FreeJointKind::Revolute { axis }, _) | (FreeJointKind::Cylindrical { axis }, _) => {
+                let v = perpendicular(&axis);
+                angle_about(&axis, &v, &(rel * v))
+            }
+            (FreeJointKind::Universal { axis1, axis2 }, 0) => {
+                angle_about(&axis1, &axis2, &(rel * axis2))
+            }
+            (FreeJointKind::Universal { axis1, axis2 }, _) => {
+                -angle_about(&axis2, &axis1, &rel.tr_mul(&axis1))
+            }
+            _ => return 0.0,
+        };
+        prev + wrap(raw - prev)
+    }
+
+    /// The row of coordinate `dof`; `arm_a` is A's lever arm for slides (`ra + d`).
+    fn dof_row(&self, f: &Frames, arm_a: &V3, dof: usize) -> Row {
+        match (self.kind, dof) {
+            (FreeJointKind::Prismatic { axis }, _) | (FreeJointKind::Cylindrical { axis }, 1) => {
+                Row::linear(f.rot_a * axis, arm_a, &f.rb)
+            }
+            (FreeJointKind::Revolute { axis }, _) | (FreeJointKind::Cylindrical { axis }, _) => {
+                Row::angular(f.rot_a * axis)
+            }
+            (FreeJointKind::Universal { axis1, axis2 }, k) => {
+                // ω_rel = q̇₁ u₁ + q̇₂ u₂ + c n: the rates are the dual basis' components.
+                let (u1, u2) = (f.rot_a * axis1, f.rot_b * axis2);
+                let n = u1.cross(&u2);
+                let g = if k == 0 {
+                    let g = u2.cross(&n);
+                    g / u1.dot(&g)
+                } else {
+                    let g = n.cross(&u1);
+                    g / u2.dot(&g)
+                };
+                Row::angular(g)
+            }
+            _ => Row::angular(V3::zeros()),
+        }
+    }
+
+    fn row_rate(&self, bodies: &BodySet, r: &Row) -> f64 {
+        let (a, b) = (self.a, self.b);
+        r.lin.dot(&(bodies.vel[b] - bodies.vel[a])) + r.ang_b.dot(&bodies.omega[b])
+            - r.ang_a.dot(&bodies.omega[a])
+    }
+
+    /// `J₁ M⁻¹ J₂ᵀ` of two rows.
+    fn coupling(&self, r1: &Row, r2: &Row) -> f64 {
+        (self.ima + self.imb) * r1.lin.dot(&r2.lin)
+            + r1.ang_a.dot(&(self.ia * r2.ang_a))
+            + r1.ang_b.dot(&(self.ib * r2.ang_b))
+    }
+
+    /// A coordinate row's inverse effective mass with the constraint rows holding:
+    /// `a − bᵀ K⁻¹ b`, `b_i = J_i M⁻¹ J_qᵀ` (the Schur complement), so that an impulse on
+    /// the coordinate followed by the constraint block changes its rate by exactly `a λ`.
+    fn reduced_inv_mass(&self, r: &Row) -> f64 {
+        let mut b = nalgebra::Vector6::zeros();
+        for i in 0..self.n_rows {
+            b[i] = self.coupling(&self.rows[i], r);
+        }
+        self.coupling(r, r) - b.dot(&(self.k_inv * b))
+    }
+
+    fn apply_row(&self, bodies: &mut BodySet, r: &Row, lambda: f64) {
+        let (a, b) = (self.a, self.b);
+        bodies.vel[a] -= r.lin * (self.ima * lambda);
+        bodies.omega[a] -= self.ia * (r.ang_a * lambda);
+        bodies.vel[b] += r.lin * (self.imb * lambda);
+        bodies.omega[b] += self.ib * (r.ang_b * lambda);
+    }
+
+    fn has_drives(&self) -> bool {
+        self.dofs[..self.kind.driven_dofs()]
+            .iter()
+            .any(|d| d.drive.is_active())
     }
 
     /// Jacobians and effective masses from the current poses (called at the start of each
     /// step and of each substep's solve, so that fast-turning bodies keep exact anchors).
-    pub fn prepare(&mut self, bodies: &BodySet) {
+    fn refresh(&mut self, bodies: &BodySet) {
         let (a, b) = (self.a, self.b);
         self.ima = if bodies.awake[a] {
             bodies.inv_mass[a]
@@ -124,79 +360,247 @@ impl FreeJoint {
         } else {
             M3::zeros()
         };
-        self.ra = bodies.rot[a] * self.local_a;
-        self.rb = bodies.rot[b] * self.local_b;
-        let (sa, sb) = (skew(&self.ra), skew(&self.rb));
-        let k = M3::identity() * (self.ima + self.imb) - sa * self.ia * sa - sb * self.ib * sb;
-        self.lin_mass = k.try_inverse().unwrap_or(M3::zeros());
-        let ka = self.ia + self.ib;
-        self.ang_mass = match self.kind {
-            FreeJointKind::Ball => M3::zeros(),
-            FreeJointKind::Fixed { .. } => ka.try_inverse().unwrap_or(M3::zeros()),
-            FreeJointKind::Revolute { axis_a, .. } => {
-                let ax = bodies.rot[a] * axis_a;
-                let p = M3::identity() - ax * ax.transpose();
-                let kp = p * ka * p + ax * ax.transpose();
-                p * kp.try_inverse().unwrap_or(M3::zeros()) * p
+        let f = self.frames(bodies);
+        self.rb = f.rb;
+        use FreeJointKind as K;
+        let mut rows = [Row::default(); 6];
+        let mut n = 0;
+        let mut push = |r: Row| {
+            rows[n] = r;
+            n += 1;
+        };
+        // Linear rows: the anchors coincide, or (slides) coincide ⊥ the axis fixed in A.
+        match self.kind {
+            K::Free => {}
+            K::Prismatic { axis } | K::Cylindrical { axis } => {
+                let u = f.rot_a * axis;
+                let p1 = perpendicular(&u);
+                let arm_a = f.ra + f.d;
+                push(Row::linear(p1, &arm_a, &f.rb));
+                push(Row::linear(u.cross(&p1), &arm_a, &f.rb));
             }
-        };
-    }
-
-    fn apply(&self, bodies: &mut BodySet, lin: &V3, ang: &V3) {
-        let (a, b) = (self.a, self.b);
-        bodies.vel[a] -= lin * self.ima;
-        bodies.omega[a] -= self.ia * (self.ra.cross(lin) + ang);
-        bodies.vel[b] += lin * self.imb;
-        bodies.omega[b] += self.ib * (self.rb.cross(lin) + ang);
-    }
-
-    /// Applies the accumulated impulses.
-    pub fn warm_start(&self, bodies: &mut BodySet) {
-        self.apply(bodies, &self.lin_impulse, &self.ang_impulse);
-    }
-
-    /// One pass; `use_bias` adds the soft position correction.
-    pub fn solve(&mut self, bodies: &mut BodySet, soft: &Softness, use_bias: bool) {
-        if use_bias {
-            self.prepare(bodies);
+            _ => {
+                for e in [V3::x(), V3::y(), V3::z()] {
+                    push(Row::linear(e, &f.ra, &f.rb));
+                }
+            }
         }
-        let (a, b) = (self.a, self.b);
-        let (ms, is, rate) = if use_bias {
-            (soft.mass_scale, soft.impulse_scale, soft.bias_rate)
-        } else {
-            (1.0, 0.0, 0.0)
-        };
-        if !matches!(self.kind, FreeJointKind::Ball) {
-            let err = match self.kind {
-                FreeJointKind::Fixed { rel } => {
-                    log_so3(&(bodies.rot[b] * (bodies.rot[a] * rel).transpose()))
+        // Angular rows.
+        match self.kind {
+            K::Fixed | K::Prismatic { .. } => {
+                for e in [V3::x(), V3::y(), V3::z()] {
+                    push(Row::angular(e));
                 }
-                FreeJointKind::Revolute { axis_a, axis_b } => {
-                    (bodies.rot[a] * axis_a).cross(&(bodies.rot[b] * axis_b))
-                }
-                FreeJointKind::Ball => V3::zeros(),
+            }
+            K::Revolute { axis } | K::Cylindrical { axis } => {
+                let u = f.rot_a * axis;
+                let p1 = perpendicular(&u);
+                push(Row::angular(p1));
+                push(Row::angular(u.cross(&p1)));
+            }
+            K::Universal { axis1, axis2 } => {
+                let g = (f.rot_b * axis2).cross(&(f.rot_a * axis1));
+                push(Row::angular(g.try_normalize(1e-12).unwrap_or(V3::z())));
+            }
+            K::Ball | K::Free => {}
+        }
+        let mut k = M6::identity();
+        for i in 0..n {
+            for j in 0..n {
+                k[(i, j)] = self.coupling(&rows[i], &rows[j]);
+            }
+        }
+        self.k_inv = k.try_inverse().unwrap_or(M6::zeros());
+        // The accumulated impulses in the new rows.
+        for i in 0..n {
+            let v = if rows[i].linear {
+                self.lin_impulse
+            } else {
+                self.ang_impulse
             };
-            let dw = bodies.omega[b] - bodies.omega[a];
-            let imp = -(self.ang_mass * (dw + err * rate)) * ms - self.ang_impulse * is;
-            self.ang_impulse += imp;
-            self.apply(bodies, &V3::zeros(), &imp);
+            self.lambda[i] = rows[i].dir.dot(&v);
         }
-        let c = bodies.pos[b] + bodies.rot[b] * self.local_b
-            - bodies.pos[a]
-            - bodies.rot[a] * self.local_a;
-        let dv = bodies.vel[b] + bodies.omega[b].cross(&self.rb)
-            - bodies.vel[a]
-            - bodies.omega[a].cross(&self.ra);
-        let imp = -(self.lin_mass * (dv + c * rate)) * ms - self.lin_impulse * is;
-        self.lin_impulse += imp;
-        self.apply(bodies, &imp, &V3::zeros());
+        self.rows = rows;
+        self.n_rows = n;
+        for k in 0..self.kind.driven_dofs() {
+            self.dofs[k].q = self.coordinate(&f, k, self.dofs[k].q);
+        }
     }
 
-    /// Current anchor gap (m): how far the joint has drifted apart.
+    /// Prepares the step: Jacobians and effective masses from the current poses, and the
+    /// coordinates' rates at the step's start.
+    pub fn prepare(&mut self, bodies: &BodySet) {
+        self.refresh(bodies);
+        self.record_rates(bodies);
+    }
+
+    fn record_rates(&mut self, bodies: &BodySet) {
+        if !self.has_drives() {
+            return;
+        }
+        let f = self.frames(bodies);
+        let arm_a = f.ra + f.d;
+        for k in 0..self.kind.driven_dofs() {
+            self.dofs[k].rate_end = self.row_rate(bodies, &self.dof_row(&f, &arm_a, k));
+        }
+    }
+
+    /// Applies the accumulated impulses of the constraint rows.
+    pub fn warm_start(&self, bodies: &mut BodySet) {
+        for i in 0..self.n_rows {
+            self.apply_row(bodies, &self.rows[i], self.lambda[i]);
+        }
+    }
+
+    /// The constraint errors for the current poses: linear (m) and angular (rad) vectors
+    /// (world) whose components along the rows' directions are the rows' errors.
+    fn errors(&self, bodies: &BodySet) -> (V3, V3) {
+        use FreeJointKind as K;
+        let f = self.frames(bodies);
+        let ang = match self.kind {
+            K::Fixed | K::Prismatic { .. } => log_so3(&(f.rot_b * f.rot_a.transpose())),
+            K::Revolute { axis } | K::Cylindrical { axis } => {
+                (f.rot_a * axis).cross(&(f.rot_b * axis))
+            }
+            K::Universal { axis1, axis2 } => {
+                // C = u₁·u₂ − its value at the start; Ċ = |n| ĝ·ω_rel, so the row's error
+                // along ĝ is C / |n|.
+                let (u1, u2) = (f.rot_a * axis1, f.rot_b * axis2);
+                let n = u2.cross(&u1);
+                let c = u1.dot(&u2) - axis1.dot(&axis2);
+                let len = n.norm();
+                if len > 1e-12 {
+                    n * (c / (len * len))
+                } else {
+                    V3::zeros()
+                }
+            }
+            K::Ball | K::Free => V3::zeros(),
+        };
+        (f.d, ang)
+    }
+
+    /// One pass over the constraint rows as one block: `Δλ = −K⁻¹ (J V + β C) s_m − s_i λ`.
+    fn solve_block(&mut self, bodies: &mut BodySet, soft: (f64, f64, f64), use_bias: bool) {
+        let n = self.n_rows;
+        if n == 0 {
+            return;
+        }
+        let (rate, ms, is) = soft;
+        let (lin_err, ang_err) = if use_bias {
+            self.errors(bodies)
+        } else {
+            (V3::zeros(), V3::zeros())
+        };
+        let mut rhs = nalgebra::Vector6::zeros();
+        for i in 0..n {
+            let r = &self.rows[i];
+            let c = r.dir.dot(if r.linear { &lin_err } else { &ang_err });
+            rhs[i] = self.row_rate(bodies, r) + rate * c;
+        }
+        let dl = -(self.k_inv * rhs) * ms;
+        let (mut lin, mut ang) = (V3::zeros(), V3::zeros());
+        for i in 0..n {
+            let d = dl[i] - is * self.lambda[i];
+            self.lambda[i] += d;
+            let r = self.rows[i];
+            self.apply_row(bodies, &r, d);
+            if r.linear {
+                lin += r.dir * self.lambda[i];
+            } else {
+                ang += r.dir * self.lambda[i];
+            }
+        }
+        self.lin_impulse = lin;
+        self.ang_impulse = ang;
+    }
+
+    /// One pass; `use_bias` adds the soft position correction (the first pass of a
+    /// substep), without it the pass only removes velocity errors (the relax pass). A joint
+    /// with driven coordinates solves its constraint block, then the coordinates' rows (with
+    /// their effective masses under the constraints), then the block again.
+    pub fn solve(&mut self, bodies: &mut BodySet, soft: &Softness, use_bias: bool) {
+        let driven = self.has_drives();
+        if use_bias {
+            self.refresh(bodies);
+            for d in &mut self.dofs {
+                d.begin_substep();
+            }
+        } else if driven {
+            let f = self.frames(bodies);
+            for k in 0..self.kind.driven_dofs() {
+                self.dofs[k].q = self.coordinate(&f, k, self.dofs[k].q);
+            }
+        }
+        let block_soft = if use_bias {
+            (soft.bias_rate, soft.mass_scale, soft.impulse_scale)
+        } else {
+            (0.0, 1.0, 0.0)
+        };
+        self.solve_block(bodies, block_soft, use_bias);
+        if driven {
+            self.solve_dofs(bodies, soft, use_bias);
+            // Only the velocity errors the coordinates' impulses left.
+            self.solve_block(bodies, (0.0, 1.0, 0.0), false);
+            self.record_rates(bodies);
+        }
+    }
+
+    /// One pass over the driven coordinates' rows (motors, limits, armature).
+    fn solve_dofs(&mut self, bodies: &mut BodySet, soft: &Softness, use_bias: bool) {
+        let f = self.frames(bodies);
+        let arm_a = f.ra + f.d;
+        let limit_soft = use_bias.then_some((soft.bias_rate, soft.mass_scale, soft.impulse_scale));
+        for k in 0..self.kind.driven_dofs() {
+            if !self.dofs[k].drive.is_active() {
+                continue;
+            }
+            let row = self.dof_row(&f, &arm_a, k);
+            let inv_mass = self.reduced_inv_mass(&row);
+            let rate = self.row_rate(bodies, &row);
+            let mut state = self.dofs[k];
+            let this = &*self;
+            state.solve(rate, inv_mass, self.substep, limit_soft, |lambda| {
+                this.apply_row(bodies, &row, lambda);
+                this.row_rate(bodies, &row)
+            });
+            self.dofs[k] = state;
+        }
+    }
+
+    /// Current anchor gap (m): how far the joint's constrained directions have drifted
+    /// apart (the distance between the anchors, less any slide a prismatic or cylindrical
+    /// joint allows).
     pub fn gap(&self, bodies: &BodySet) -> f64 {
-        (bodies.pos[self.b] + bodies.rot[self.b] * self.local_b
-            - bodies.pos[self.a]
-            - bodies.rot[self.a] * self.local_a)
-            .norm()
+        let f = self.frames(bodies);
+        match self.kind {
+            FreeJointKind::Free => 0.0,
+            FreeJointKind::Prismatic { axis } | FreeJointKind::Cylindrical { axis } => {
+                let u = f.rot_a * axis;
+                (f.d - u * u.dot(&f.d)).norm()
+            }
+            _ => f.d.norm(),
+        }
+    }
+
+    /// The largest angle (rad) by which the joint's constrained rotations have drifted: the
+    /// relative rotation of a fixed or prismatic joint, the misalignment of a revolute or
+    /// cylindrical joint's axes, the change of a universal joint's axis angle; 0 for ball and
+    /// free joints.
+    pub fn angular_gap(&self, bodies: &BodySet) -> f64 {
+        let f = self.frames(bodies);
+        match self.kind {
+            FreeJointKind::Fixed | FreeJointKind::Prismatic { .. } => {
+                log_so3(&(f.rot_b * f.rot_a.transpose())).norm()
+            }
+            FreeJointKind::Revolute { axis } | FreeJointKind::Cylindrical { axis } => {
+                (f.rot_a * axis).angle(&(f.rot_b * axis))
+            }
+            FreeJointKind::Universal { axis1, axis2 } => {
+                let now = (f.rot_a * axis1).angle(&(f.rot_b * axis2));
+                (now - axis1.angle(&axis2)).abs()
+            }
+            FreeJointKind::Ball | FreeJointKind::Free => 0.0,
+        }
     }
 }

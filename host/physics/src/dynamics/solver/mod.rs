@@ -13,10 +13,14 @@
 pub mod contact_batch;
 pub mod contact_constraint;
 pub mod joint_constraint;
+pub mod joint_dofs;
+pub mod joint_kind;
 pub mod lanes;
 pub mod softness;
 
 pub use contact_batch::ContactBatches;
 pub use contact_constraint::{ContactConstraint, ContactSettings, SolvePass};
-pub use joint_constraint::{FreeJoint, FreeJointKind};
+pub use joint_constraint::{FreeJoint, MAX_DRIVEN_DOFS};
+pub use joint_dofs::{DofDrive, DofLimits, DofMotor, LIMIT_BOUNCE_SPEED};
+pub use joint_kind::{FreeJointKind, JointKindError};
 pub use softness::Softness;
