@@ -9,6 +9,7 @@
 //!   feature position).
 //! * [`box_box`] — separating-axis test with face clipping (up to 4 points).
 //! * [`primitives`] — sphere, capsule, cylinder and half-space pairs.
+//! * [`toi`] — the time of impact of a sphere swept along a line (continuous collision).
 //!
 //! Frames: everything here is in world coordinates unless a name says `local`. A contact
 //! normal points from body A to body B; a separation is negative when the shapes overlap (m).
@@ -22,6 +23,7 @@ mod material;
 pub mod narrow_phase;
 pub mod primitives;
 pub mod shape;
+pub mod toi;
 
 pub use broad_phase::BroadPhase;
 pub use collision_bodies::CollisionBodies;
@@ -30,6 +32,7 @@ pub use contact::{ContactPoint, Manifold, MAX_MANIFOLD_POINTS};
 pub use material::Material;
 pub use narrow_phase::NarrowPhase;
 pub use shape::{Aabb, Shape};
+pub use toi::{sphere_cast, Impact};
 
 /// 3-vector, f64 (m, m/s, …).
 pub type V3 = nalgebra::Vector3<f64>;
