@@ -17,10 +17,10 @@
 //! 3-byte header: "unexpected error packet of length 3 is to short to parse",
 //! `handler.rs:65`). This module is the smallest correct alternative: a USB/IP server
 //! (protocol version 1.1.1, as documented in the Linux kernel's
-//! `Documentation/usb/usbip_protocol.rst`) in front of [`crate::usb_device`], which
-//! answers the control requests from descriptors built out of
-//! `foosball_protocol::usb`. Malformed client bytes close that connection with a
-//! message; they never panic the server.
+//! `Documentation/usb/usbip_protocol.rst`) in front of [`crate::usb_device`], where
+//! `usb-device`'s stack (its device and a HID class on it) answers the URBs through a
+//! bus made of them ([`crate::usb_device::UrbBus`]). Malformed client bytes close
+//! that connection with a message; they never panic the server.
 //!
 //! The exported device has bus id [`BUS_ID`], full speed. One client can have it
 //! attached at a time. IN reports are produced every emulated millisecond in real time;
@@ -32,8 +32,7 @@
 use crate::board::EmulatedBoard;
 use crate::pacing::RealTimePacer;
 use crate::usb_device::{
-    ControlOutcome, SetupPacket, UsbDeviceState, BCD_DEVICE, CLASS_HID, CONFIGURATION_VALUE, EP_IN,
-    EP_OUT,
+    self, ControlOutcome, EmulatedUsb, BCD_DEVICE, CLASS_HID, CONFIGURATION_VALUE, EP_IN, EP_OUT,
 };
 use foosball_protocol::usb::{PRODUCT_ID, VENDOR_ID};
 use foosball_protocol::IN_REPORT_V2_LEN;
@@ -357,7 +356,6 @@ impl Conn {
 pub struct UsbIpServer {
     listener: TcpListener,
     conns: Vec<Conn>,
-    device: UsbDeviceState,
     reports: VecDeque<[u8; IN_REPORT_V2_LEN]>,
     latest: [u8; IN_REPORT_V2_LEN],
     verbose: bool,
@@ -372,7 +370,6 @@ impl UsbIpServer {
         Ok(Self {
             listener,
             conns: Vec::new(),
-            device: UsbDeviceState::new(),
             reports: VecDeque::new(),
             latest: [0; IN_REPORT_V2_LEN],
             verbose: false,
@@ -403,25 +400,28 @@ impl UsbIpServer {
 
     /// Serves `board` in real time (one report per millisecond) until `stop` is set.
     pub fn run(&mut self, board: &mut EmulatedBoard, stop: &AtomicBool) -> Result<(), UsbIpError> {
+        // The device lives as long as the server runs; each import resets its bus.
+        let alloc = usb_device::allocator();
+        let mut usb = EmulatedUsb::new(&alloc);
         let mut pacer = RealTimePacer::new(100);
         while !stop.load(Ordering::Relaxed) {
             self.accept()?;
-            self.service(board);
+            self.service(board, &mut usb);
             let due = pacer.due(Instant::now());
             for _ in 0..due {
                 pacer.emitted();
                 // Version 2, as the RP2040 binary sends (and the descriptor says).
                 let report = board.step_report_v2().to_bytes();
                 self.latest = report;
-                if self.attached().is_some() && self.device.is_configured() {
+                if self.attached().is_some() && usb.is_configured() {
                     if self.reports.len() == REPORT_QUEUE {
                         self.reports.pop_front();
                     }
                     self.reports.push_back(report);
                 }
             }
-            self.answer_in_urbs();
-            self.flush_all();
+            self.answer_in_urbs(&mut usb);
+            self.flush_all(&mut usb);
             let wait = pacer
                 .next_due_at()
                 .saturating_duration_since(Instant::now())
@@ -458,14 +458,14 @@ impl UsbIpServer {
         }
     }
 
-    fn service(&mut self, board: &mut EmulatedBoard) {
+    fn service(&mut self, board: &mut EmulatedBoard, usb: &mut EmulatedUsb<'_>) {
         for i in 0..self.conns.len() {
             if !self.conns[i].receive() {
                 self.conns[i].open = false;
             }
             loop {
                 match self.conns[i].parse() {
-                    Ok(Some(request)) => self.handle(i, request, board),
+                    Ok(Some(request)) => self.handle(i, request, board, usb),
                     Ok(None) => break,
                     Err(e) => {
                         let peer = self.conns[i].peer.clone();
@@ -479,7 +479,13 @@ impl UsbIpServer {
         }
     }
 
-    fn handle(&mut self, i: usize, request: Request, board: &mut EmulatedBoard) {
+    fn handle(
+        &mut self,
+        i: usize,
+        request: Request,
+        board: &mut EmulatedBoard,
+        usb: &mut EmulatedUsb<'_>,
+    ) {
         match request {
             Request::DevList => {
                 let conn = &mut self.conns[i];
@@ -492,7 +498,7 @@ impl UsbIpServer {
                 conn.tx.extend_from_slice(&import_reply(ok));
                 if ok {
                     conn.state = ConnState::Attached;
-                    self.device = UsbDeviceState::new();
+                    usb.reset();
                     self.reports.clear();
                     self.log(&format!("{} attached bus id {busid}", self.conns[i].peer));
                 } else {
@@ -528,8 +534,7 @@ impl UsbIpServer {
                 let reply = if iso {
                     ret_submit(seqnum, EPIPE, &[], 0)
                 } else if ep == 0 {
-                    let setup = SetupPacket::parse(setup);
-                    match self.device.control(setup, &data, &self.latest) {
+                    match usb.control(setup, &data, &self.latest) {
                         ControlOutcome::Data(bytes) => {
                             let n = bytes.len().min(length);
                             ret_submit(seqnum, 0, &bytes[..n], n)
@@ -550,12 +555,16 @@ impl UsbIpServer {
                     self.conns[i].pending_in.push_back((seqnum, length));
                     return;
                 } else if direction == DIR_OUT && ep == u32::from(EP_OUT) {
-                    match board.receive_out_report(&data) {
-                        Ok(_) => ret_submit(seqnum, 0, &[], data.len()),
-                        Err(e) => {
+                    match usb
+                        .interrupt_out(&data)
+                        .map(|b| board.receive_out_report(&b))
+                    {
+                        Some(Ok(_)) => ret_submit(seqnum, 0, &[], data.len()),
+                        Some(Err(e)) => {
                             self.log(&e.to_string());
                             ret_submit(seqnum, EPIPE, &[], 0)
                         }
+                        None => ret_submit(seqnum, EPIPE, &[], 0),
                     }
                 } else {
                     ret_submit(seqnum, EPIPE, &[], 0)
@@ -565,7 +574,7 @@ impl UsbIpServer {
         }
     }
 
-    fn answer_in_urbs(&mut self) {
+    fn answer_in_urbs(&mut self, usb: &mut EmulatedUsb<'_>) {
         let Some(i) = self.attached() else {
             self.reports.clear();
             return;
@@ -573,6 +582,10 @@ impl UsbIpServer {
         let conn = &mut self.conns[i];
         while !conn.pending_in.is_empty() {
             let Some(report) = self.reports.pop_front() else {
+                break;
+            };
+            // Through the HID class's IN endpoint, as the host would take it.
+            let Some(report) = usb.interrupt_in(&report) else {
                 break;
             };
             let Some((seqnum, length)) = conn.pending_in.pop_front() else {
@@ -585,7 +598,7 @@ impl UsbIpServer {
         }
     }
 
-    fn flush_all(&mut self) {
+    fn flush_all(&mut self, usb: &mut EmulatedUsb<'_>) {
         for conn in &mut self.conns {
             if conn.open && !conn.flush() {
                 conn.open = false;
@@ -604,7 +617,7 @@ impl UsbIpServer {
             ));
         }
         if was_attached && self.attached().is_none() {
-            self.device = UsbDeviceState::new();
+            usb.reset();
             self.reports.clear();
         }
     }
