@@ -240,3 +240,64 @@ fn import_enumerate_stream_reports_and_take_out_reports() {
     );
     assert_eq!(board.out_report_counts(), (1, 1));
 }
+
+/// HID class requests through the loopback: GET_REPORT gives the latest IN report, a
+/// SET_REPORT with a valid OUT report reaches the board, a malformed one STALLs, and
+/// the control pipe works again after the stall.
+#[test]
+fn hid_class_requests_get_and_set_report() {
+    let server = Running::start();
+    let mut s = connect(server.addr);
+    let mut import = vec![0x01, 0x11, 0x80, 0x03, 0, 0, 0, 0];
+    let mut busid = [0u8; 32];
+    busid[..3].copy_from_slice(b"1-1");
+    import.extend_from_slice(&busid);
+    s.write_all(&import).unwrap();
+    assert_eq!(be32(&read_n(&mut s, 8 + 0x138), 4), 0);
+    s.write_all(&submit(1, false, 0, 0, [0, 9, 1, 0, 0, 0, 0, 0], &[]))
+        .unwrap();
+    assert_eq!(ret_submit(&mut s, false).1, 0, "SET_CONFIGURATION");
+    // Let a few reports be made.
+    std::thread::sleep(Duration::from_millis(20));
+    let (status, report) = control_in(&mut s, 2, [0xA1, 1, 0, 1, 0, 0, 64, 0]);
+    assert_eq!(status, 0, "GET_REPORT");
+    assert_eq!(report.len(), IN_REPORT_V2_LEN);
+    assert!(InReportV2::decode(&report).is_ok());
+    let mut out = OutReport::default();
+    out.haptics[2] = HapticPulse {
+        strength: 77,
+        duration_ms: 5,
+    };
+    let bytes = out.to_bytes();
+    let len = bytes.len() as u8;
+    let set_report = [0x21, 9, 0, 2, 0, 0, len, 0];
+    s.write_all(&submit(3, false, 0, u32::from(len), set_report, &bytes))
+        .unwrap();
+    assert_eq!(ret_submit(&mut s, false).1, 0, "SET_REPORT");
+    s.write_all(&submit(
+        4,
+        false,
+        0,
+        3,
+        [0x21, 9, 0, 2, 0, 0, 3, 0],
+        &[9, 9, 9],
+    ))
+    .unwrap();
+    assert_eq!(
+        ret_submit(&mut s, false).1,
+        -32,
+        "malformed SET_REPORT stalls"
+    );
+    let (status, config) = control_in(&mut s, 5, [0x80, 8, 0, 0, 0, 0, 1, 0]);
+    assert_eq!(
+        (status, config),
+        (0, vec![1]),
+        "GET_CONFIGURATION after the stall"
+    );
+    drop(s);
+    let board = server.stop();
+    let pulses = board.haptic_events();
+    assert_eq!(pulses.len(), 1);
+    assert_eq!((pulses[0].paddle, pulses[0].strength), (2, 77));
+    assert_eq!(board.out_report_counts(), (1, 0));
+}
