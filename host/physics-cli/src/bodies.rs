@@ -46,16 +46,18 @@ fn kind_name(k: BodyKind) -> &'static str {
 
 /// The bodies to print: all of them, or those with the given names (every name must exist).
 pub fn select(world: &World, names: &[String]) -> Result<Vec<usize>> {
-    let n = world.bodies.len();
+    let n = world.body_count();
+    let name_of: Vec<&str> = world.bodies().map(|b| b.name()).collect();
     if names.is_empty() {
         return Ok((0..n).collect());
     }
     let mut out = Vec::new();
     for want in names {
-        let found: Vec<usize> = (0..n).filter(|&i| world.bodies.name[i] == *want).collect();
+        let found: Vec<usize> = (0..n).filter(|&i| name_of[i] == want.as_str()).collect();
         if found.is_empty() {
-            let named: Vec<&str> = (0..n)
-                .map(|i| world.bodies.name[i].as_str())
+            let named: Vec<&str> = name_of
+                .iter()
+                .copied()
                 .filter(|s| !s.is_empty())
                 .take(12)
                 .collect();
@@ -78,13 +80,13 @@ pub fn select(world: &World, names: &[String]) -> Result<Vec<usize>> {
 
 /// Every body's centre of mass now (m, world): the start that displacements refer to.
 pub fn positions(world: &World) -> Vec<V3> {
-    world.bodies.pos.clone()
+    world.bodies().map(|b| b.position()).collect()
 }
 
 /// The line of body `i` at `step`, `start` being [`positions`] at step 0.
 pub fn line<'w>(world: &'w World, step: u64, i: usize, start: &[V3]) -> BodyLine<'w> {
-    let b = &world.bodies;
-    let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(b.rot[i]));
+    let b = world.bodies().nth(i).expect("a selected body");
+    let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(b.rotation()));
     let q = if q.w < 0.0 {
         -q.into_inner()
     } else {
@@ -92,15 +94,15 @@ pub fn line<'w>(world: &'w World, step: u64, i: usize, start: &[V3]) -> BodyLine
     };
     BodyLine {
         step,
-        t: world.time,
+        t: world.time(),
         body: i,
-        name: &b.name[i],
-        kind: kind_name(b.kind[i]),
-        position_m: b.pos[i].into(),
+        name: b.name(),
+        kind: kind_name(b.kind()),
+        position_m: b.position().into(),
         quaternion_wxyz: [q.w, q.i, q.j, q.k],
-        linear_velocity_mps: b.vel[i].into(),
-        angular_velocity_radps: b.omega[i].into(),
-        displacement_m: start.get(i).map_or(0.0, |p0| (b.pos[i] - p0).norm()),
+        linear_velocity_mps: b.linear_velocity().into(),
+        angular_velocity_radps: b.angular_velocity().into(),
+        displacement_m: start.get(i).map_or(0.0, |p0| (b.position() - p0).norm()),
     }
 }
 
@@ -118,11 +120,10 @@ pub struct Displacement {
 
 /// [`Displacement`] of the dynamic bodies since `start`.
 pub fn displacement(world: &World, start: &[V3]) -> Displacement {
-    let b = &world.bodies;
     let mut d = Displacement::default();
-    for (i, p0) in start.iter().enumerate().take(b.len()) {
-        if b.inv_mass[i] > 0.0 {
-            let v = b.pos[i] - p0;
+    for (b, p0) in world.bodies().zip(start) {
+        if b.kind() == BodyKind::Dynamic {
+            let v = b.position() - p0;
             d.max_3d = d.max_3d.max(v.norm());
             d.max_horizontal = d.max_horizontal.max((v.x * v.x + v.y * v.y).sqrt());
             d.max_vertical = d.max_vertical.max(v.z.abs());

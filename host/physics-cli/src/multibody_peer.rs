@@ -17,6 +17,7 @@
 use anyhow::Result;
 
 use crate::run::{load, stats};
+use virtual_physics::pipeline::BodyHandle;
 
 /// The comparison's result.
 #[derive(serde::Serialize)]
@@ -33,8 +34,10 @@ pub struct Report {
 /// Ours: ms per step (median) and the deepest ground penetration (m) over the run.
 fn ours(s: &virtual_physics::scene::SceneFile, steps: u64) -> Result<(f64, f64)> {
     let mut w = s.build()?;
-    let ground: Vec<usize> = (0..w.bodies.len())
-        .filter(|&i| w.bodies.shape[i].is_half_space())
+    let ground: Vec<BodyHandle> = w
+        .bodies()
+        .filter(|b| b.shape().is_half_space())
+        .map(|b| b.handle())
         .collect();
     let mut t = Vec::with_capacity(steps as usize);
     let mut deepest: f64 = 0.0;
@@ -42,9 +45,9 @@ fn ours(s: &virtual_physics::scene::SceneFile, steps: u64) -> Result<(f64, f64)>
         let t0 = std::time::Instant::now();
         w.step()?;
         t.push(t0.elapsed().as_secs_f64() * 1e3);
-        for m in w.manifolds() {
-            if ground.contains(&(m.a as usize)) || ground.contains(&(m.b as usize)) {
-                deepest = deepest.max(-m.min_separation());
+        for c in w.contacts() {
+            if ground.contains(&c.a) || ground.contains(&c.b) {
+                deepest = deepest.max(-c.min_separation());
             }
         }
     }

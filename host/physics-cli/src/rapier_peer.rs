@@ -15,6 +15,8 @@
 use anyhow::Result;
 
 use crate::run::{load, stats, time_steps};
+use virtual_physics::dynamics::BodyKind;
+use virtual_physics::pipeline::BodyHandle;
 
 /// One row of the comparison.
 #[derive(serde::Serialize)]
@@ -189,11 +191,16 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool) -> Result<()> {
             let s = load(name, Some(sleeping))?;
             let n = steps.or(s.steps).unwrap_or(600);
             let mut w = s.build()?;
-            let dynamic: Vec<usize> = (0..w.bodies.len())
-                .filter(|&i| w.bodies.inv_mass[i] > 0.0)
+            let dynamic: Vec<BodyHandle> = w
+                .bodies()
+                .filter(|b| b.kind() == BodyKind::Dynamic)
+                .map(|b| b.handle())
                 .collect();
             let snap = |w: &virtual_physics::pipeline::World| -> Vec<[f64; 3]> {
-                dynamic.iter().map(|&i| w.bodies.pos[i].into()).collect()
+                dynamic
+                    .iter()
+                    .filter_map(|&h| w.body(h).map(|b| b.position().into()))
+                    .collect()
             };
             let start = snap(&w);
             let ours = stats(&time_steps(&mut w, n, !json)?).0;
@@ -209,7 +216,7 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool) -> Result<()> {
                 rapier_max_drift_m: rapier_drift,
             });
             if !sleeping {
-                let (substeps, hertz) = (w.settings.substeps, w.settings.contact_hertz);
+                let (substeps, hertz) = (w.settings().substeps, w.settings().contact_hertz);
                 let (rapier, rapier_drift) =
                     rapier_run(&s, false, n, RapierSettings::Matched { substeps, hertz })?;
                 matched.push(MatchedRow {

@@ -109,13 +109,13 @@ pub fn run(
 
 /// The world totals and counters of one step, as one JSON object.
 fn step_line(w: &World, k: u64, start: &[virtual_physics::geometry::V3]) -> serde_json::Value {
-    let p = w.bodies.linear_momentum();
-    let l = w.bodies.angular_momentum();
+    let p = w.linear_momentum();
+    let l = w.angular_momentum();
     let d = bodies::displacement(w, start);
-    let stages: Vec<&str> = w.counters.stages().map(|s| s.name()).collect();
-    let c = &w.counters;
+    let stages: Vec<&str> = w.counters().stages().map(|s| s.name()).collect();
+    let c = w.counters();
     serde_json::json!({
-        "step": k, "t": w.time, "energy": w.energy(),
+        "step": k, "t": w.time(), "energy": w.energy(),
         "momentum": [p.x, p.y, p.z], "angular_momentum": [l.x, l.y, l.z],
         "max_penetration": w.max_penetration(),
         "max_displacement": d.max_3d, "max_horizontal_displacement": d.max_horizontal,
@@ -177,30 +177,30 @@ pub fn bench(
     let s = load(scene, sleeping)?;
     let mut w = s.build()?;
     if let Some(n) = overrides.substeps {
-        w.settings.substeps = n;
+        w.settings_mut().substeps = n;
     }
     if let Some(hz) = overrides.contact_hertz {
         anyhow::ensure!(
             hz.is_finite() && hz > 0.0,
             "--contact-hertz must be a positive number, got {hz}"
         );
-        w.settings.contact_hertz = hz;
+        w.settings_mut().contact_hertz = hz;
     }
     if overrides.rigid {
-        w.settings.soft_contacts = false;
+        w.settings_mut().soft_contacts = false;
     }
     if overrides.scalar_contacts {
-        w.settings.batch_contacts = false;
+        w.settings_mut().batch_contacts = false;
     }
     if overrides.relax_last_only {
-        w.settings.relax_each_substep = false;
+        w.settings_mut().relax_each_substep = false;
     }
     if let Some(cap) = overrides.hertz_cap {
         anyhow::ensure!(
             cap.is_finite() && cap > 0.0,
             "--hertz-cap must be a positive number, got {cap}"
         );
-        w.settings.contact_hertz_cap = cap;
+        w.settings_mut().contact_hertz_cap = cap;
     }
     let n = steps.or(s.steps).unwrap_or(600).min(MAX_STEPS);
     let start = bodies::positions(&w);
@@ -208,17 +208,17 @@ pub fn bench(
     let (med, mean, worst) = stats(&t);
     let d = bodies::displacement(&w, &start);
     let out = serde_json::json!({
-        "scene": s.name, "steps": n, "bodies": w.bodies.len(),
+        "scene": s.name, "steps": n, "bodies": w.body_count(),
         "sleeping": s.effects.contains(&Effect::Sleeping),
         "median_ms": med, "mean_ms": mean, "worst_ms": worst,
         "max_drift_m": d.max_3d,
         "max_horizontal_drift_m": d.max_horizontal, "max_vertical_drift_m": d.max_vertical,
         "max_penetration_m": w.max_penetration(),
-        "substeps": w.settings.substeps, "contact_hertz": w.settings.contact_hertz,
-        "soft_contacts": w.settings.soft_contacts,
-        "batch_contacts": w.settings.batch_contacts,
-        "contact_hertz_cap": w.settings.contact_hertz_cap,
-        "relax_each_substep": w.settings.relax_each_substep,
+        "substeps": w.settings().substeps, "contact_hertz": w.settings().contact_hertz,
+        "soft_contacts": w.settings().soft_contacts,
+        "batch_contacts": w.settings().batch_contacts,
+        "contact_hertz_cap": w.settings().contact_hertz_cap,
+        "relax_each_substep": w.settings().relax_each_substep,
     });
     outln!("{out}");
     Ok(())

@@ -4,9 +4,12 @@
 use nalgebra::Matrix3;
 use std::borrow::Borrow;
 use virtual_physics::algebra::exp_so3;
-use virtual_physics::dynamics::{BodyKind, BodySet, Material};
+
 use virtual_physics::geometry::narrow_phase::collide;
-use virtual_physics::geometry::{BroadPhase, Manifold, Shape, V3};
+use virtual_physics::geometry::{BroadPhase, CollisionBodies, Manifold, Shape, V3};
+
+mod scene_order;
+use scene_order::*;
 
 fn cube(h: f64) -> Shape {
     Shape::Cuboid {
@@ -165,7 +168,6 @@ fn spheres_capsules_cylinders_and_planes() {
 
 #[test]
 fn grid_broad_phase_equals_brute_force() {
-    let mut bodies = BodySet::default();
     let mut seed = 12345u64;
     let mut rnd = || {
         seed = seed
@@ -173,48 +175,46 @@ fn grid_broad_phase_equals_brute_force() {
             .wrapping_add(1442695040888963407);
         (seed >> 11) as f64 / (1u64 << 53) as f64
     };
-    bodies.push(
-        "ground".into(),
-        BodyKind::Fixed,
-        Shape::HalfSpace { normal: V3::z() },
-        Material::default(),
-        0.0,
-        V3::zeros(),
-        Matrix3::identity(),
-        V3::zeros(),
-        V3::zeros(),
-    );
+    let mut shape = vec![Shape::HalfSpace { normal: V3::z() }];
+    let mut rot = vec![Matrix3::identity()];
+    let mut pos = vec![V3::zeros()];
     for _ in 0..300 {
-        let shape = if rnd() < 0.5 {
+        shape.push(if rnd() < 0.5 {
             cube(0.1 + 0.6 * rnd())
         } else {
             Shape::Sphere {
                 radius: 0.05 + 0.5 * rnd(),
             }
-        };
-        let p = V3::new(10.0 * rnd() - 5.0, 10.0 * rnd() - 5.0, 6.0 * rnd() - 0.5);
-        let r = exp_so3(&V3::new(rnd(), rnd(), rnd()));
-        bodies.push(
-            "".into(),
-            BodyKind::Dynamic,
-            shape,
-            Material::default(),
-            1.0,
-            p,
-            r,
-            V3::zeros(),
-            V3::zeros(),
-        );
+        });
+        pos.push(V3::new(
+            10.0 * rnd() - 5.0,
+            10.0 * rnd() - 5.0,
+            6.0 * rnd() - 0.5,
+        ));
+        rot.push(exp_so3(&V3::new(rnd(), rnd(), rnd())));
     }
-    let mut bp = BroadPhase::new(&bodies.shape);
-    bp.update(&bodies.collision_view(), &[]);
+    let aabb: Vec<_> = (0..shape.len())
+        .map(|i| shape[i].aabb(&rot[i], &pos[i]))
+        .collect();
+    // The ground is fixed (asleep, moved by nothing); the others are awake dynamic bodies.
+    let awake: Vec<bool> = (0..shape.len()).map(|i| i > 0).collect();
+    let bodies = CollisionBodies {
+        shape: &shape,
+        rot: &rot,
+        pos: &pos,
+        aabb: &aabb,
+        awake: &awake,
+        responds: &awake,
+    };
+    let mut bp = BroadPhase::new(&shape);
+    bp.update(&bodies, &[]);
     let mut brute = Vec::new();
-    for a in 0..bodies.len() {
-        for b in a + 1..bodies.len() {
+    for a in 0..shape.len() {
+        for b in a + 1..shape.len() {
             let hit = if a == 0 {
-                bodies.aabb[b].min.z <= 0.0
+                aabb[b].min.z <= 0.0
             } else {
-                bodies.aabb[a].overlaps(&bodies.aabb[b])
+                aabb[a].overlaps(&aabb[b])
             };
             if hit {
                 brute.push(((a as u64) << 32) | b as u64);
@@ -287,18 +287,21 @@ fn cylinders_against_boxes_capsules_and_cylinders_by_probing() {
     let mut w = s.build().unwrap();
     for _ in 0..120 {
         w.step().unwrap();
-        assert_eq!(w.counters.unsupported_pairs, 0);
+        assert_eq!(w.counters().unsupported_pairs, 0);
     }
     // Cylinder on the box top (z = 1): centre at 1.2.
     assert!(
-        (w.bodies.pos[2].z - 1.2).abs() < 0.01,
+        (body_at(&w, 2).position().z - 1.2).abs() < 0.01,
         "cylinder z {}",
-        w.bodies.pos[2].z
+        body_at(&w, 2).position().z
     );
     // Each small body rests on its rod (top of the rod at z = 0.6), not on the ground.
     for k in [4, 6, 8] {
-        let z = w.bodies.pos[k].z;
+        let z = body_at(&w, k).position().z;
         assert!(z > 0.62 && z < 0.72, "body {k} z {z}");
-        assert!(w.bodies.vel[k].norm() < 0.05, "body {k} still moving");
+        assert!(
+            body_at(&w, k).linear_velocity().norm() < 0.05,
+            "body {k} still moving"
+        );
     }
 }

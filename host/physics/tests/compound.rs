@@ -44,11 +44,11 @@ fn disk_on_stem_mass_properties_match_a_hand_computation() {
 
     let scene = SceneFile::from_path(&scene_path("spinning-top.json")).expect("scene loads");
     let world = scene.build().expect("scene builds");
-    let top = world.body("top").expect("a body named top");
-    let b = &world.bodies;
+    let top = world.body_named("top").expect("a body named top");
+    let b = world.body(top).unwrap();
     let tol = 1e-12;
-    assert!(rel(b.mass(top), m) < tol, "mass {} vs {m}", b.mass(top));
-    let i = b.inertia[top];
+    assert!(rel(b.mass(), m) < tol, "mass {} vs {m}", b.mass());
+    let i = b.principal_inertia();
     assert!(
         rel(i.x, ixx) < tol && rel(i.y, ixx) < tol,
         "Ixx {i:?} vs {ixx}"
@@ -56,8 +56,8 @@ fn disk_on_stem_mass_properties_match_a_hand_computation() {
     assert!(rel(i.z, izz) < tol, "Izz {} vs {izz}", i.z);
     // The body frame sits at the centre of mass, on the (tilted) stem axis.
     let tilt = exp_so3(&V3::new(0.2, 0.0, 0.0));
-    assert!((b.pos[top] - tilt * V3::new(0.0, 0.0, zc)).norm() < 1e-15);
-    assert!((b.rot[top] - tilt).norm() < 1e-15);
+    assert!((b.position() - tilt * V3::new(0.0, 0.0, zc)).norm() < 1e-15);
+    assert!((b.rotation() - tilt).norm() < 1e-15);
 }
 
 /// A compound stated off its axes gets the same mass properties as `Inertia::xform` of the
@@ -166,35 +166,37 @@ fn a_four_legged_table_stands_on_its_legs_and_carries_a_box() {
     cargo.material = None;
     s.bodies.push(cargo);
     let mut w = s.build().expect("builds");
-    let (table, cargo) = (w.body("table").unwrap(), w.body("cargo").unwrap());
+    let (table, cargo) = (
+        w.body_named("table").unwrap(),
+        w.body_named("cargo").unwrap(),
+    );
     // Where the table's centre of mass rests: the body frame's height over the reference
     // frame's origin (the feet), from the build.
-    let feet_to_com = w.bodies.pos[table].z - 0.01;
+    let feet_to_com = w.body(table).unwrap().position().z - 0.01;
     for _ in 0..180 {
         w.step().expect("finite");
     }
-    let b = &w.bodies;
+    let (t, c) = (w.body(table).unwrap(), w.body(cargo).unwrap());
     // Feet on the ground: the centre of mass at its height over the feet, within 1 mm.
     assert!(
-        (b.pos[table].z - feet_to_com).abs() < 1e-3,
+        (t.position().z - feet_to_com).abs() < 1e-3,
         "table centre of mass at {} m, expected {feet_to_com} m",
-        b.pos[table].z
+        t.position().z
     );
     // Level, and at rest.
-    assert!(b.rot[table].column(2).dot(&V3::z()) > 1.0 - 1e-6);
-    assert!(b.vel[table].norm() < 1e-2 && b.vel[cargo].norm() < 1e-2);
+    assert!(t.rotation().column(2).dot(&V3::z()) > 1.0 - 1e-6);
+    assert!(t.linear_velocity().norm() < 1e-2 && c.linear_velocity().norm() < 1e-2);
     // The box rests on the top (top face at 0.34 m), not in it.
     assert!(
-        (b.pos[cargo].z - 0.39).abs() < 1e-3,
+        (c.position().z - 0.39).abs() < 1e-3,
         "box centre at {} m, expected 0.39 m",
-        b.pos[cargo].z
+        c.position().z
     );
     // Four feet and one box–top contact: manifolds name the parts that touch.
     let parts_on_ground: Vec<u16> = w
-        .manifolds()
-        .iter()
-        .filter(|m| m.a as usize != cargo && m.b as usize == table)
-        .map(|m| m.part_b)
+        .contacts()
+        .filter(|c| c.a != cargo && c.b == table)
+        .map(|c| c.parts().1)
         .collect();
     assert_eq!(parts_on_ground.len(), 4, "{parts_on_ground:?}");
     assert!(parts_on_ground.iter().all(|&p| (1..=4).contains(&p)));
@@ -237,7 +239,7 @@ fn each_part_collides_with_its_own_material() {
         material: None,
     });
     let mut w = s.build().expect("builds");
-    let d = w.body("dumbbell").unwrap();
+    let d = w.body_named("dumbbell").unwrap();
     // It reaches the ground after √(2 · 0.25 m / g) = 0.226 s; look 34 ms later.
     let mut touched = false;
     for _ in 0..260 {
@@ -245,9 +247,9 @@ fn each_part_collides_with_its_own_material() {
         touched |= w.max_penetration() > 0.0;
     }
     assert!(touched, "the dumbbell reached the ground");
-    let b = &w.bodies;
+    let b = w.body(d).unwrap();
     // Velocity of each ball's centre: v + ω × r.
-    let end = |x: f64| b.vel[d] + b.omega[d].cross(&(b.rot[d] * V3::new(x, 0.0, 0.0)));
+    let end = |x: f64| b.point_velocity(&(b.position() + b.rotation() * V3::new(x, 0.0, 0.0)));
     let (bouncy, dead) = (end(-0.3), end(0.3));
     assert!(bouncy.z > 0.5, "the bouncy end rebounds: {bouncy:?}");
     assert!(

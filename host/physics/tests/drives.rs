@@ -3,22 +3,21 @@
 
 use std::f64::consts::PI;
 use virtual_physics::algebra::{Inertia, Sym3, Vec3, SE3};
-use virtual_physics::dynamics::BodySet;
 use virtual_physics::geometry::V3;
 use virtual_physics::model::{ArticulatedTree, Prismatic, Revolute};
 use virtual_physics::pipeline::articulated::ArticulatedSystem;
-use virtual_physics::pipeline::{Effect, Effects, Motor, SolverSettings, Trajectory, World};
+use virtual_physics::pipeline::{Effect, Effects, Motor, Trajectory, World};
+
+mod scene_order;
+use scene_order::*;
 
 const G: f64 = 9.81;
 
 fn world(dt: f64) -> World {
-    World::new(
-        BodySet::default(),
-        Effects::of(&[Effect::Gravity, Effect::Articulated]),
-        dt,
-        V3::new(0.0, 0.0, -G),
-        SolverSettings::default(),
-    )
+    World::builder(Effects::of(&[Effect::Gravity, Effect::Articulated]))
+        .dt(dt)
+        .gravity(V3::new(0.0, 0.0, -G))
+        .build()
 }
 
 /// A horizontal arm about `y`: 1 kg at 0.4 m (plus a small rotational inertia). Gravity's
@@ -56,11 +55,11 @@ fn a_torque_limited_position_motor_holds_a_load_below_its_limit() {
     let (tree, load) = arm();
     let sys = ArticulatedSystem::new(tree, vec![0.0], vec![0.0]).with_motor(0, servo(1.5 * load));
     let mut w = world(1e-3);
-    w.add_articulated(sys);
+    w.insert_tree(sys);
     for _ in 0..2000 {
         w.step().expect("finite");
     }
-    let a = &w.articulated[0];
+    let a = tree_at(&w, 0);
     // Static deflection τ / k = 3.9e-4 rad; it must not sag further.
     assert!(a.q()[0].abs() < 1e-3, "arm angle {} rad", a.q()[0]);
     assert!(
@@ -70,7 +69,7 @@ fn a_torque_limited_position_motor_holds_a_load_below_its_limit() {
     );
     // The motor carries the load: its torque balances gravity's (about y, gravity pulls
     // the arm's +x end down, a positive rotation about y).
-    let tau = a.drive_force(0, w.dt);
+    let tau = a.drive_force(0, w.dt());
     assert!(
         ((tau.abs() - load) / load).abs() < 0.01,
         "motor {tau} N·m, load {load} N·m"
@@ -83,17 +82,17 @@ fn a_torque_limited_position_motor_slips_above_its_limit() {
     let max = 0.5 * load;
     let sys = ArticulatedSystem::new(tree, vec![0.0], vec![0.0]).with_motor(0, servo(max));
     let mut w = world(1e-3);
-    w.add_articulated(sys);
+    w.insert_tree(sys);
     for _ in 0..300 {
         w.step().expect("finite");
     }
-    let a = &w.articulated[0];
+    let a = tree_at(&w, 0);
     assert!(
         a.q()[0] > 0.3,
         "the arm should have fallen: {} rad",
         a.q()[0]
     );
-    let tau = a.drive_force(0, w.dt);
+    let tau = a.drive_force(0, w.dt());
     assert!(
         ((tau.abs() - max) / max).abs() < 1e-9,
         "saturated motor {tau} N·m, limit {max}"
@@ -117,14 +116,14 @@ fn a_prismatic_limit_stops_the_joint_at_the_limit() {
         .unwrap();
         let sys = ArticulatedSystem::new(tree, vec![0.5], vec![0.0]).with_limits(0, 0.0, 1.0);
         let mut w = world(dt);
-        w.add_articulated(sys);
+        w.insert_tree(sys);
         let steps = (2.0 / dt) as usize;
         for _ in 0..steps {
             w.step().expect("finite");
-            let q = w.articulated[0].q()[0];
+            let q = tree_at(&w, 0).q()[0];
             assert!(q > -1e-3, "at dt {dt}: {q} m past the limit");
         }
-        let a = &w.articulated[0];
+        let a = tree_at(&w, 0);
         assert!(
             a.q()[0].abs() < 1e-3 && a.qd()[0].abs() < 1e-3,
             "at dt {dt}: q {} q̇ {}",
@@ -189,7 +188,7 @@ fn a_kinematic_root_on_a_sinusoid_drives_a_hanging_chain() {
     let sys =
         ArticulatedSystem::new(tree, vec![0.0; nv], vec![0.0; nv]).with_prescribed(0, traj.clone());
     let mut w = world(1e-3);
-    w.add_articulated(sys);
+    w.insert_tree(sys);
     let e0 = w.energy();
     let total_mass = n as f64 * m;
     let v_root = 2.0 * PI * freq * amp;
@@ -198,7 +197,7 @@ fn a_kinematic_root_on_a_sinusoid_drives_a_hanging_chain() {
     for step in 1..=10_000 {
         w.step().expect("finite");
         let t = step as f64 * 1e-3;
-        let root = w.articulated[0].q()[0];
+        let root = tree_at(&w, 0).q()[0];
         assert!(
             (root - traj.at(t)).abs() < 1e-9,
             "root at {root} m, trajectory {} m",

@@ -4,12 +4,15 @@ use virtual_physics::pipeline::{Effect, Stage};
 use virtual_physics::scene::builtin::{ball_roll, ball_wall, towers};
 use virtual_physics::scene::SceneFile;
 
+mod scene_order;
+use scene_order::*;
+
 fn stages(s: &SceneFile, steps: usize) -> Vec<Stage> {
     let mut w = s.build().unwrap();
     let mut all = Vec::new();
     for _ in 0..steps {
         w.step().unwrap();
-        all.extend(w.counters.stages());
+        all.extend(w.counters().stages());
     }
     all
 }
@@ -30,12 +33,12 @@ fn no_broad_phase_without_contacts() {
         assert!(c.ran(Stage::Gravity) && c.ran(Stage::Integrate));
     }
     // Free fall: the boxes pass through the ground.
-    assert!(w.bodies.pos[1].z < 0.5 - 0.5 * 9.81 * 0.02);
+    assert!(body_at(&w, 1).position().z < 0.5 - 0.5 * 9.81 * 0.02);
     // With contacts the same scene builds a broad phase and finds the contacts.
     s.effects.push(Effect::Contacts);
     let mut w = s.build().unwrap();
     w.step().unwrap();
-    assert!(w.counters.ran(Stage::BroadPhase) && w.counters.contacts >= 4 * 20);
+    assert!(w.counters().ran(Stage::BroadPhase) && w.counters().contacts >= 4 * 20);
 }
 
 #[test]
@@ -44,7 +47,7 @@ fn no_articulated_solve_without_articulated_bodies() {
     assert!(!stages(&s, 5).contains(&Stage::Articulated));
     let mut w = s.build().unwrap();
     w.step().unwrap();
-    assert_eq!(w.counters.articulated_solves, 0);
+    assert_eq!(w.counters().articulated_solves, 0);
 
     // A scene with a tree runs ABA once per tree per substep.
     let model = virtual_physics::model::builders::chain(3);
@@ -58,10 +61,10 @@ fn no_articulated_solve_without_articulated_bodies() {
     for _ in 0..60 {
         w.step().unwrap();
         assert!(
-            w.counters.ran(Stage::Articulated)
-                && w.counters.articulated_solves == w.settings.substeps
+            w.counters().ran(Stage::Articulated)
+                && w.counters().articulated_solves == w.settings().substeps
         );
-        assert!(!w.counters.ran(Stage::BroadPhase));
+        assert!(!w.counters().ran(Stage::BroadPhase));
     }
     // Semi-implicit Euler on a pendulum chain: energy stays close.
     let e1 = w.energy();
@@ -75,18 +78,22 @@ fn no_restitution_pass_without_restitution() {
     let mut ran = false;
     for _ in 0..6 {
         w.step().unwrap();
-        ran |= w.counters.ran(Stage::Restitution);
+        ran |= w.counters().ran(Stage::Restitution);
     }
     assert!(ran, "the scene with restitution runs the pass");
     s.effects.retain(|e| *e != Effect::Restitution);
     let mut w = s.build().unwrap();
     for _ in 0..6 {
         w.step().unwrap();
-        assert!(!w.counters.ran(Stage::Restitution));
-        assert_eq!(w.counters.restitution_constraints, 0);
+        assert!(!w.counters().ran(Stage::Restitution));
+        assert_eq!(w.counters().restitution_constraints, 0);
     }
     // No bounce: the ball stops at the wall.
-    assert!(w.bodies.vel[0].x.abs() < 0.5, "vx = {}", w.bodies.vel[0].x);
+    assert!(
+        body_at(&w, 0).linear_velocity().x.abs() < 0.5,
+        "vx = {}",
+        body_at(&w, 0).linear_velocity().x
+    );
 }
 
 #[test]
@@ -111,8 +118,8 @@ fn counters_count_pairs_contacts_and_iterations() {
     assert_eq!(c.manifolds, 6);
     assert_eq!(c.contacts, 24);
     assert_eq!(c.pairs_tested, 6);
-    assert_eq!(c.substeps, w.settings.substeps);
-    assert_eq!(c.solver_iterations, 2 * w.settings.substeps);
+    assert_eq!(c.substeps, w.settings().substeps);
+    assert_eq!(c.solver_iterations, 2 * w.settings().substeps);
     assert_eq!(c.awake_bodies, 6);
 }
 
@@ -141,7 +148,7 @@ fn a_falling_box_wakes_a_sleeping_tower() {
     let mut woke = false;
     for _ in 0..240 {
         w.step().unwrap();
-        let tower_awake = (1..4).filter(|&i| w.bodies.awake[i]).count();
+        let tower_awake = (1..4).filter(|&i| body_at(&w, i).is_awake()).count();
         if tower_awake == 0 {
             slept = true;
         } else if slept {
@@ -151,8 +158,8 @@ fn a_falling_box_wakes_a_sleeping_tower() {
     assert!(slept && woke, "slept {slept} woke {woke}");
     // The dropped box ends on top of the tower.
     assert!(
-        (w.bodies.pos[4].z - 3.5).abs() < 0.02,
+        (body_at(&w, 4).position().z - 3.5).abs() < 0.02,
         "z = {}",
-        w.bodies.pos[4].z
+        body_at(&w, 4).position().z
     );
 }

@@ -6,6 +6,9 @@ use virtual_physics::measure::accuracy::{articulated, free_body, Problem};
 use virtual_physics::pipeline::{IntegratorKind, World};
 use virtual_physics::scene::{builtin, SceneFile};
 
+mod scene_order;
+use scene_order::*;
+
 #[test]
 fn scenes_select_the_integrator_by_name_and_default_to_semi_implicit_euler() {
     let s = builtin::ball_roll();
@@ -36,9 +39,9 @@ fn scenes_select_the_integrator_by_name_and_default_to_semi_implicit_euler() {
 fn set_integrator_reaches_articulated_trees() {
     let mut w: World =
         articulated::chain_world(Problem::DoublePendulum, IntegratorKind::Rkmk4, 0.01);
-    assert_eq!(w.articulated[0].integrator(), IntegratorKind::Rkmk4);
+    assert_eq!(tree_at(&w, 0).integrator(), IntegratorKind::Rkmk4);
     w.set_integrator(IntegratorKind::ExplicitEuler);
-    assert_eq!(w.articulated[0].integrator(), IntegratorKind::ExplicitEuler);
+    assert_eq!(tree_at(&w, 0).integrator(), IntegratorKind::ExplicitEuler);
 }
 
 /// The tumbling-box target: |energy drift| ≤ 1e-6 and the reference's 3 flips at 1 ms over 10 s.

@@ -10,6 +10,11 @@ use virtual_physics::pipeline::Effect;
 use virtual_physics::scene::builtin::{pyramid, towers};
 use virtual_physics::scene::SceneFile;
 
+use virtual_physics::dynamics::BodyKind;
+
+mod scene_order;
+use scene_order::*;
+
 fn full() -> bool {
     std::env::var("VPHYS_FULL_STACKS").is_ok_and(|v| v == "1")
 }
@@ -17,16 +22,16 @@ fn full() -> bool {
 /// (largest horizontal move, largest sink of any box, m) over 600 steps.
 fn stand(s: SceneFile) -> (f64, f64) {
     let mut w = s.build().unwrap();
-    let start: Vec<V3> = w.bodies.pos.clone();
+    let start: Vec<V3> = positions(&w);
     let mut horiz: f64 = 0.0;
     let mut sink: f64 = 0.0;
     for _ in 0..600 {
         w.step().unwrap();
-        for (i, p0) in start.iter().enumerate() {
-            if w.bodies.inv_mass[i] == 0.0 {
+        for (i, (b, p0)) in w.bodies().zip(&start).enumerate() {
+            if b.kind() != BodyKind::Dynamic {
                 continue;
             }
-            let p = w.bodies.pos[i];
+            let p = b.position();
             assert!(p.iter().all(|x| x.is_finite()), "NaN at body {i}");
             let d = p - p0;
             horiz = horiz.max((d.x * d.x + d.y * d.y).sqrt());
@@ -70,11 +75,11 @@ fn the_stand_test_can_fail_soft_contacts_sink() {
     // sinks several centimetres: the test above measures something real.
     let s = towers(1, 1, 20);
     let mut w = s.build().unwrap();
-    w.settings.substeps = 4;
-    w.settings.contact_hertz = 30.0;
-    let z0 = w.bodies.pos[20].z;
+    w.settings_mut().substeps = 4;
+    w.settings_mut().contact_hertz = 30.0;
+    let z0 = body_at(&w, 20).position().z;
     for _ in 0..120 {
         w.step().unwrap();
     }
-    assert!(z0 - w.bodies.pos[20].z > 0.05);
+    assert!(z0 - body_at(&w, 20).position().z > 0.05);
 }

@@ -5,38 +5,30 @@
 
 use std::f64::consts::FRAC_PI_2;
 use virtual_physics::algebra::{exp_so3, Inertia, Sym3, Vec3, SE3};
-use virtual_physics::dynamics::{BodyKind, BodySet};
-use virtual_physics::geometry::{Material, Shape, M3, V3};
+use virtual_physics::dynamics::BodyKind;
+use virtual_physics::geometry::{Material, Shape, V3};
 use virtual_physics::model::{ArticulatedTree, Free, Prismatic, Revolute};
 use virtual_physics::pipeline::articulated::ArticulatedSystem;
-use virtual_physics::pipeline::{Effect, Effects, SolverSettings, World};
+use virtual_physics::pipeline::{BodyBuilder, BodyHandle, Effect, Effects, SolverSettings, World};
+
+mod scene_order;
+use scene_order::*;
 
 const G: f64 = 9.81;
 
-fn world(bodies: BodySet, effects: &[Effect], dt: f64) -> World {
-    World::new(
-        bodies,
-        Effects::of(effects),
-        dt,
-        V3::new(0.0, 0.0, -G),
-        SolverSettings::default(),
-    )
+fn world(effects: &[Effect], dt: f64) -> World {
+    World::builder(Effects::of(effects))
+        .dt(dt)
+        .gravity(V3::new(0.0, 0.0, -G))
+        .build()
 }
 
-fn with_ground() -> BodySet {
-    let mut b = BodySet::default();
-    b.push(
-        "ground".into(),
-        BodyKind::Fixed,
-        Shape::HalfSpace { normal: V3::z() },
-        Material::default(),
-        0.0,
-        V3::zeros(),
-        M3::identity(),
-        V3::zeros(),
-        V3::zeros(),
-    );
-    b
+/// A world with the ground plane `z = 0` (a fixed half-space, default material).
+fn with_ground(effects: &[Effect], dt: f64) -> (World, BodyHandle) {
+    let mut w = world(effects, dt);
+    let ground =
+        w.insert_body(BodyBuilder::fixed(Shape::HalfSpace { normal: V3::z() }).name("ground"));
+    (w, ground)
 }
 
 /// A solid box's inertia about its centre (kg·m²).
@@ -103,10 +95,10 @@ fn a_twenty_link_chain_dropped_on_the_ground_rests_on_it() {
         Effect::Friction,
         Effect::Articulated,
     ];
-    let mut w = world(with_ground(), &effects, 1.0 / 60.0);
-    w.add_articulated(sys);
+    let (mut w, _) = with_ground(&effects, 1.0 / 60.0);
+    w.insert_tree(sys);
     assert_eq!(
-        w.bodies.len(),
+        w.body_count(),
         1 + n,
         "one proxy body per link with a shape"
     );
@@ -120,8 +112,8 @@ fn a_twenty_link_chain_dropped_on_the_ground_rests_on_it() {
     assert!(deepest <= 1e-3, "a link sank {deepest} m into the ground");
     // Every link lies on the ground (its capsule's lowest point within 1 mm of z = 0) …
     for i in 1..=n {
-        let b = &w.bodies;
-        let lowest = b.pos[i].z + (b.rot[i] * V3::new(0.5 * len, 0.0, 0.0)).z - radius;
+        let b = body_at(&w, i);
+        let lowest = b.position().z + (b.rotation() * V3::new(0.5 * len, 0.0, 0.0)).z - radius;
         assert!(
             lowest.abs() <= 1e-3,
             "link {} lowest point at {lowest} m",
@@ -129,7 +121,7 @@ fn a_twenty_link_chain_dropped_on_the_ground_rests_on_it() {
         );
     }
     // … at rest.
-    let speed = w.articulated[0]
+    let speed = tree_at(&w, 0)
         .qd()
         .iter()
         .map(|v| v * v)
@@ -181,13 +173,13 @@ fn a_link_of_one_tree_rests_on_a_link_of_another() {
         Effect::Friction,
         Effect::Articulated,
     ];
-    let mut w = world(with_ground(), &effects, 1.0 / 60.0);
-    w.add_articulated(plate_sys);
-    w.add_articulated(cube_sys);
+    let (mut w, _) = with_ground(&effects, 1.0 / 60.0);
+    w.insert_tree(plate_sys);
+    w.insert_tree(cube_sys);
     for _ in 0..180 {
         w.step().expect("finite");
     }
-    let (plate_z, cube_z) = (w.articulated[0].q()[0], w.articulated[1].q()[5]);
+    let (plate_z, cube_z) = (tree_at(&w, 0).q()[0], tree_at(&w, 1).q()[5]);
     assert!(
         (plate_z - plate.z).abs() < 1e-3,
         "plate centre at {plate_z} m"
@@ -197,7 +189,7 @@ fn a_link_of_one_tree_rests_on_a_link_of_another() {
         "cube centre at {cube_z} m, plate top at {} m",
         2.0 * plate.z
     );
-    assert!(w.articulated[0].qd()[0].abs() < 1e-2 && w.articulated[1].qd()[5].abs() < 1e-2);
+    assert!(tree_at(&w, 0).qd()[0].abs() < 1e-2 && tree_at(&w, 1).qd()[5].abs() < 1e-2);
 }
 
 /// A pendulum (a 1 kg bob of radius 5 cm, 0.5 m below a hinge about `y`) swings through
@@ -240,32 +232,30 @@ fn a_pendulum_strikes_a_free_box_with_the_analytic_impulse() {
         frictionless,
     );
     let (big_m, half) = (2.0, V3::repeat(0.05));
-    let mut bodies = BodySet::default();
-    let bx = bodies.push(
-        "box".into(),
-        BodyKind::Dynamic,
-        Shape::Cuboid { half },
-        frictionless,
-        big_m,
-        V3::new(-(r + half.x), 0.0, pivot.z - l),
-        M3::identity(),
-        V3::zeros(),
-        V3::zeros(),
+    let mut w = world(&[Effect::Contacts, Effect::Articulated], 1e-3);
+    let bx = w.insert_body(
+        BodyBuilder::dynamic(Shape::Cuboid { half })
+            .name("box")
+            .material(frictionless)
+            .mass(big_m)
+            .position(V3::new(-(r + half.x), 0.0, pivot.z - l)),
     );
-    let mut w = world(bodies, &[Effect::Contacts, Effect::Articulated], 1e-3);
-    w.add_articulated(sys);
+    w.insert_tree(sys);
     // The impact comes at 12.3 ms; run on past it while the pendulum swings away.
     for _ in 0..60 {
         w.step().expect("finite");
     }
     let lambda = l * omega0 / (1.0 / big_m + l * l / i_pivot);
-    let received = big_m * w.bodies.vel[bx].norm();
+    let received = big_m * w.body(bx).unwrap().linear_velocity().norm();
     assert!(
         ((received - lambda) / lambda).abs() < 1e-6,
         "box momentum {received} N·s, analytic impulse {lambda} N·s"
     );
-    assert!(w.bodies.vel[bx].x < 0.0, "the box is pushed towards −x");
-    let lost = i_pivot * (omega0 - w.articulated[0].qd()[0]);
+    assert!(
+        w.body(bx).unwrap().linear_velocity().x < 0.0,
+        "the box is pushed towards −x"
+    );
+    let lost = i_pivot * (omega0 - tree_at(&w, 0).qd()[0]);
     assert!(
         ((lost - lambda * l) / (lambda * l)).abs() < 1e-6,
         "angular momentum lost {lost}, expected {}",
@@ -281,20 +271,20 @@ fn the_chain_on_boxes_scene_settles() {
     let path = format!("{}/scenes/chain-on-boxes.json", env!("CARGO_MANIFEST_DIR"));
     let scene = virtual_physics::scene::SceneFile::from_path(&path).expect("scene loads");
     let mut w = scene.build().expect("scene builds");
-    assert_eq!(w.articulated[0].link_poses().len(), 10);
+    assert_eq!(tree_at(&w, 0).link_poses().len(), 10);
     let mut deepest: f64 = 0.0;
     for _ in 0..240 {
         w.step().expect("finite");
         deepest = deepest.max(w.max_penetration());
     }
     assert!(deepest < 1e-2, "deepest overlap {deepest} m");
-    let fastest = (0..w.bodies.len())
-        .filter(|&i| w.bodies.kind[i] == BodyKind::Dynamic)
-        .map(|i| w.bodies.vel[i].norm())
+    let fastest = (0..w.body_count())
+        .filter(|&i| body_at(&w, i).kind() == BodyKind::Dynamic)
+        .map(|i| body_at(&w, i).linear_velocity().norm())
         .fold(0.0, f64::max);
     assert!(fastest < 0.05, "a box still moves at {fastest} m/s");
     // The chain lies on the pile or the ground: no link below the ground.
-    for (i, p) in w.articulated[0].link_poses().iter().enumerate() {
+    for (i, p) in tree_at(&w, 0).link_poses().iter().enumerate() {
         assert!(p.p.z > 0.0, "link {i} at z = {} m", p.p.z);
     }
 }
@@ -362,20 +352,6 @@ fn an_arm_whose_motors_press_a_box_onto_the_ground_reaches_static_equilibrium() 
             SE3::from_translation(Vec3::new(lengths[2], 0.0, 0.0)),
             frictionless,
         );
-    let mut bodies = with_ground();
-    let reach: f64 = lengths.iter().sum();
-    let bx = bodies.push(
-        "box".into(),
-        BodyKind::Dynamic,
-        Shape::Cuboid { half },
-        // Grips the ground; against the frictionless tip the pair has no friction.
-        Material::default(),
-        m_box,
-        V3::new(reach, 0.0, half.z),
-        M3::identity(),
-        V3::zeros(),
-        V3::zeros(),
-    );
     let effects = [
         Effect::Gravity,
         Effect::Contacts,
@@ -383,29 +359,36 @@ fn an_arm_whose_motors_press_a_box_onto_the_ground_reaches_static_equilibrium() 
         Effect::Articulated,
     ];
     let dt = 1e-3;
-    let mut w = world(bodies, &effects, dt);
-    w.add_articulated(sys);
+    let (mut w, ground) = with_ground(&effects, dt);
+    let reach: f64 = lengths.iter().sum();
+    // Grips the ground; against the frictionless tip the pair has no friction.
+    let bx = w.insert_body(
+        BodyBuilder::dynamic(Shape::Cuboid { half })
+            .name("box")
+            .mass(m_box)
+            .position(V3::new(reach, 0.0, half.z)),
+    );
+    w.insert_tree(sys);
     for _ in 0..1500 {
         w.step().expect("finite");
     }
     // Static: over the last half second the tip and the box move less than the contacts'
     // allowed overlap (0.1 mm, the linear slop), as the soft contacts finish settling.
     let tip_of = |w: &World| {
-        let p = &w.articulated[0].link_poses()[2];
+        let p = tree_at(&w, 0).link_poses()[2];
         p.transform_point(&Vec3::new(lengths[2], 0.0, 0.0))
     };
     let tip_before = tip_of(&w);
-    let box_before = w.bodies.pos[bx];
+    let box_before = w.body(bx).unwrap().position();
     for _ in 0..500 {
         w.step().expect("finite");
     }
     // Normal impulses are per substep: force = impulse / substep.
     let h = dt / SolverSettings::default().substeps as f64;
-    let force_on = |body: usize| -> f64 {
-        w.manifolds()
-            .iter()
-            .filter(|m| m.a == 0 && m.b as usize == body)
-            .flat_map(|m| m.points().iter().map(|p| p.normal_impulse))
+    let force_on = |body: BodyHandle| -> f64 {
+        w.contacts()
+            .filter(|c| c.a == ground && c.b == body)
+            .map(|c| c.normal_impulse())
             .sum::<f64>()
             / h
     };
@@ -417,10 +400,10 @@ fn an_arm_whose_motors_press_a_box_onto_the_ground_reaches_static_equilibrium() 
         "ground carries {ground} N, expected {expected} N (weight {} N + push {push} N)",
         m_box * G
     );
-    let a = &w.articulated[0];
+    let a = tree_at(&w, 0);
     let moved = (tip_of(&w) - tip_before).norm();
     assert!(moved < 1e-4, "the tip moved {moved} m in 0.5 s");
-    let box_moved = w.bodies.pos[bx] - box_before;
+    let box_moved = w.body(bx).unwrap().position() - box_before;
     assert!(box_moved.norm() < 1e-4, "the box moved {box_moved:?}");
     // The last servo is at its limit, pressing.
     assert!((a.drive_force(2, dt) - tau_max).abs() < 1e-6 * tau_max);

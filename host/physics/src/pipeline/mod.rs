@@ -29,5 +29,5 @@ pub use effects::{Effect, Effects};
 pub use handles::{BodyHandle, JointHandle, LinkHandle, TreeHandle};
 pub use integrator::{FreeForces, FreeIntegrator, IntegratorKind};
 pub use world::world_joints::{JointBuilder, JointError, JointMut, JointRef};
-pub use world::{BodyMut, BodyRef, SolverSettings, World};
+pub use world::{BodyMut, BodyRef, Contact, SolverSettings, World};
 pub use world_builder::WorldBuilder;

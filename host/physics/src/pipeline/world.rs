@@ -33,6 +33,10 @@ mod world_trees;
 #[path = "world_state.rs"]
 mod world_state;
 
+#[path = "world_contacts.rs"]
+mod world_contacts;
+pub use world_contacts::Contact;
+
 use super::tree_contacts::{Proxy, TreeContacts, TreeDisplacements};
 
 /// Solver and collision settings (SI units).

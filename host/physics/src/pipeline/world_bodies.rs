@@ -32,19 +32,9 @@ macro_rules! body_getters {
             self.handle
         }
 
-        /// Its name (empty when none was given).
-        pub fn name(&self) -> &str {
-            &self.set.name[self.i]
-        }
-
         /// How it moves.
         pub fn kind(&self) -> BodyKind {
             self.set.kind[self.i]
-        }
-
-        /// Its shape, in the body frame.
-        pub fn shape(&self) -> &Shape {
-            &self.set.shape[self.i]
         }
 
         /// Its surface properties (a compound's parts have their own).
@@ -105,12 +95,32 @@ macro_rules! body_getters {
     };
 }
 
-impl BodyRef<'_> {
+impl<'w> BodyRef<'w> {
     body_getters!();
+
+    /// Its name (empty when none was given).
+    pub fn name(&self) -> &'w str {
+        &self.set.name[self.i]
+    }
+
+    /// Its shape, in the body frame.
+    pub fn shape(&self) -> &'w Shape {
+        &self.set.shape[self.i]
+    }
 }
 
 impl BodyMut<'_> {
     body_getters!();
+
+    /// Its name (empty when none was given).
+    pub fn name(&self) -> &str {
+        &self.set.name[self.i]
+    }
+
+    /// Its shape, in the body frame.
+    pub fn shape(&self) -> &Shape {
+        &self.set.shape[self.i]
+    }
 
     /// Places the centre of mass (m, world); wakes the body.
     pub fn set_position(&mut self, p: V3) -> &mut Self {
