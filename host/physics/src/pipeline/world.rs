@@ -360,6 +360,7 @@ impl World {
                 // Fast balls keep only the contacts their swept path touches.
                 let sweep = ccd::SweepSettings {
                     dt,
+                    substep: h,
                     gravity: if eff.has(Effect::Gravity) {
                         self.gravity
                     } else {
