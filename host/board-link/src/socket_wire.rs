@@ -15,7 +15,8 @@
 //!   Each side sends one hello first thing after connecting; the client requires the
 //!   server's hello before any report and drops the connection on a version mismatch.
 //! * **IN report** (`0x02`), `0 ≤ n ≤` [`MAX_PAYLOAD`], server → client: the encoded
-//!   [`InReport`] bytes, exactly as the USB board sends them in one interrupt packet.
+//!   IN report bytes (version 1, [`InReport`], or version 2 with the board's timing, as
+//!   `sim serve` sends), exactly as the USB board sends them in one interrupt packet.
 //! * **OUT report** (`0x03`), `0 ≤ n ≤` [`MAX_PAYLOAD`], client → server: the encoded
 //!   [`OutReport`] bytes.
 //!

@@ -43,7 +43,9 @@ struct State {
     address: u8,
 }
 
-/// The emulated board's USB device controller. See the [module documentation](self).
+/// The emulated board's USB device controller: one packet per endpoint and direction,
+/// `usb_device`'s stack on the device side through [`UsbBus`], the USB/IP server's URBs
+/// on the host side (see [`crate::usb_device`]).
 #[derive(Debug, Default)]
 pub struct UrbBus {
     state: Mutex<State>,
