@@ -9,9 +9,12 @@
 //! | kind | tree step |
 //! |---|---|
 //! | `explicit-euler` | `q ← q ⊞ h q̇`, then `q̇ += h q̈(q₀, q̇₀)` |
-//! | `symplectic-euler`, `implicit-gyroscopic` | `q̇ += h q̈`, then `q ← q ⊞ h q̇` (the gyroscopic terms of a tree are inside ABA's bias forces; Catto's Newton step is a free-body scheme) |
+//! | `symplectic-euler` (default), `implicit-gyroscopic` | linearly implicit Euler: `(M + h D + h² K) Δq̇ = h (τ − bias)` at `q ⊞ h q̇`, `q̇ += Δq̇`, then `q ← q ⊞ h q̇` — `D`, `K` the velocity and position Jacobians of the bias forces (Coriolis, centrifugal, gyroscopic, gravity), O(n) by an articulated-body recursion (`pipeline/implicit_step.rs`); trees with shapes or drives take the same update inside the world's substeps |
 //! | `rkmk4` | RK4 on `(θ, q̇)` in the chart (Munthe-Kaas), 4 ABA calls |
 //! | `energy-momentum` | implicit midpoint `q̇₁ = q̇₀ + h q̈(q₀ ⊞ (h/2) q̇_m, q̇_m)`, `q ← q₀ ⊞ h q̇_m`, fixed-point iterations (symmetric, second order; exact energy is a free-body property) |
+
+#[path = "implicit_step.rs"]
+mod implicit_step;
 
 use super::integrator::dexp_inv_right;
 use super::IntegratorKind;
@@ -19,6 +22,7 @@ use crate::algebra::{exp_so3, log_so3, se3, Vec3, SE3};
 use crate::dynamics::{aba, DynamicsError, Workspace};
 use crate::geometry::{Material, Shape, M3, V3};
 use crate::model::ArticulatedTree;
+use implicit_step::{implicit_solve, implicit_velocity_update, ImplicitWorkspace};
 
 /// Fixed-point iterations of the tree's implicit midpoint step: stop when `|Δq̇|∞` is below
 /// this (rad/s or m/s) …
@@ -57,6 +61,8 @@ pub struct ArticulatedSystem {
     /// The model.
     pub(crate) tree: ArticulatedTree<f64>,
     ws: Workspace<f64>,
+    /// Factors of the linearly implicit velocity update.
+    iws: ImplicitWorkspace,
     /// Configuration.
     pub(crate) q: Vec<f64>,
     /// Velocity.
@@ -88,6 +94,7 @@ impl ArticulatedSystem {
     /// A system at `q`, `qd` (lengths checked by the scene loader).
     pub fn new(tree: ArticulatedTree<f64>, q: Vec<f64>, qd: Vec<f64>) -> Self {
         let ws = Workspace::new(&tree);
+        let iws = ImplicitWorkspace::new(&tree);
         let nv = tree.nv();
         let nq = tree.nq();
         let joints = tree
@@ -107,6 +114,7 @@ impl ArticulatedSystem {
         Self {
             tree,
             ws,
+            iws,
             q,
             qd,
             tau: vec![0.0; nv],
@@ -149,15 +157,51 @@ impl ArticulatedSystem {
     }
 
     fn step_symplectic(&mut self, h: f64) -> Result<(), DynamicsError> {
-        let (q, qd) = (std::mem::take(&mut self.q), std::mem::take(&mut self.qd));
-        let r = self.forward_dynamics(&q, &qd);
-        (self.q, self.qd) = (q, qd);
-        r?;
-        for (v, a) in self.qd.iter_mut().zip(&self.qdd) {
-            *v += h * a;
-        }
+        self.implicit_velocity(h)?;
         self.advance_positions(h);
         Ok(())
+    }
+
+    /// The linearly implicit velocity update (`pipeline/implicit_step.rs`), linearised at
+    /// the predicted configuration `q ⊞ h q̇` (where `q ⊞ h q̇_new` lands to first order):
+    /// `(M + h D + h² K) Δq̇ = h (τ − bias)`, `q̇ += Δq̇`; `q` is left where it was.
+    fn implicit_velocity(&mut self, h: f64) -> Result<(), DynamicsError> {
+        self.q0.copy_from_slice(&self.q);
+        for (t, v) in self.theta.iter_mut().zip(&self.qd) {
+            *t = h * v;
+        }
+        self.chart_point_from_start();
+        let mut dqd = std::mem::take(&mut self.qdd);
+        let r = implicit_velocity_update(
+            &self.tree,
+            &mut self.iws,
+            &self.q,
+            &self.qd,
+            &self.tau,
+            h,
+            &mut dqd,
+        );
+        self.q.copy_from_slice(&self.q0);
+        if r.is_ok() {
+            for (v, x) in self.qd.iter_mut().zip(&dqd) {
+                *v += x;
+            }
+        }
+        self.qdd = dqd;
+        r.map(|_| ())
+    }
+
+    /// `out = (M + h D + h² K)⁻¹ tau` with the operator of the last implicit velocity update
+    /// (the tree's response to an impulse given in that step), or `M⁻¹ tau` before one.
+    pub(crate) fn apply_step_inverse(
+        &mut self,
+        tau: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        match implicit_solve(&self.tree, &mut self.iws, tau, out) {
+            Some(()) => Ok(()),
+            None => self.apply_inverse_mass(tau, out),
+        }
     }
 
     fn step_explicit(&mut self, h: f64) -> Result<(), DynamicsError> {
@@ -532,16 +576,10 @@ impl ArticulatedSystem {
         r
     }
 
-    /// The velocity stage of semi-implicit Euler inside the contact solve: `q̇ += h q̈`.
+    /// The velocity stage inside the contact solve: the linearly implicit update
+    /// `q̇ += (M + h D + h² K)⁻¹ h (τ − bias)` (see [`ArticulatedSystem::step`]'s table).
     pub(crate) fn velocity_stage(&mut self, h: f64) -> Result<(), DynamicsError> {
-        let (q, qd) = (std::mem::take(&mut self.q), std::mem::take(&mut self.qd));
-        let r = self.forward_dynamics(&q, &qd);
-        (self.q, self.qd) = (q, qd);
-        r?;
-        for (v, a) in self.qd.iter_mut().zip(&self.qdd) {
-            *v += h * a;
-        }
-        Ok(())
+        self.implicit_velocity(h)
     }
 
     /// The position stage: `q ← q ⊞ h q̇`.
