@@ -28,6 +28,8 @@ pub use drives::{DriveKind, Motor, Trajectory};
 pub use effects::{Effect, Effects};
 pub use handles::{BodyHandle, JointHandle, LinkHandle, TreeHandle};
 pub use integrator::{FreeForces, FreeIntegrator, IntegratorKind};
-pub use world::world_joints::{JointBuilder, JointError, JointMut, JointRef};
+pub use world::world_joints::{
+    FreeJointKind, JointBuilder, JointError, JointKindError, JointMut, JointRef,
+};
 pub use world::{BodyMut, BodyRef, Contact, SolverSettings, World};
 pub use world_builder::WorldBuilder;

@@ -12,9 +12,8 @@
 //! [`World::joint_mut`].
 
 use super::World;
-use crate::dynamics::solver::{
-    DofLimits, DofMotor, FreeJoint, FreeJointKind, JointKindError, MAX_DRIVEN_DOFS,
-};
+use crate::dynamics::solver::{DofLimits, DofMotor, FreeJoint, MAX_DRIVEN_DOFS};
+pub use crate::dynamics::solver::{FreeJointKind, JointKindError};
 use crate::dynamics::BodyKind;
 use crate::geometry::{M3, V3};
 use crate::model::Joint;

@@ -56,7 +56,6 @@ pub struct FreeJoint {
     /// The substep the motors and limits integrate over (s).
     substep: f64,
     dofs: [DofState; MAX_DRIVEN_DOFS],
-    rb: V3,
     ima: f64,
     imb: f64,
     ia: M3,
@@ -67,8 +66,8 @@ pub struct FreeJoint {
     n_rows: usize,
     k_inv: M6,
     lambda: [f64; 6],
-    /// The accumulated impulses as vectors (world): linear, angular, for re-expressing them
-    /// in the next substep's rows.
+    /// The accumulated impulses as vectors in B's frame, linear and angular: they turn with
+    /// B (a hinged body's load turns with it), and are expressed in each substep's rows.
     lin_impulse: V3,
     ang_impulse: V3,
 }
@@ -166,7 +165,6 @@ impl FreeJoint {
             frame_b: rot_b.tr_mul(&axes),
             substep,
             dofs: [DofState::default(); MAX_DRIVEN_DOFS],
-            rb: V3::zeros(),
             ima: 0.0,
             imb: 0.0,
             ia: M3::zeros(),
@@ -223,13 +221,13 @@ impl FreeJoint {
 
     /// The value of coordinate `dof` at the bodies' current poses (rad or m; angles count
     /// whole turns), `None` past the driven coordinates.
-    pub fn position(&self, bodies: &BodySet, dof: usize) -> Option<f64> {
+    pub(crate) fn position(&self, bodies: &BodySet, dof: usize) -> Option<f64> {
         (dof < self.kind.driven_dofs())
             .then(|| self.coordinate(&self.frames(bodies), dof, self.dofs[dof].q))
     }
 
     /// The rate of coordinate `dof` at the bodies' current velocities (rad/s or m/s).
-    pub fn rate(&self, bodies: &BodySet, dof: usize) -> Option<f64> {
+    pub(crate) fn rate(&self, bodies: &BodySet, dof: usize) -> Option<f64> {
         (dof < self.kind.driven_dofs()).then(|| {
             let f = self.frames(bodies);
             let arm_a = f.ra + f.d;
@@ -336,32 +334,8 @@ impl FreeJoint {
             .any(|d| d.drive.is_active())
     }
 
-    /// Jacobians and effective masses from the current poses (called at the start of each
-    /// step and of each substep's solve, so that fast-turning bodies keep exact anchors).
-    fn refresh(&mut self, bodies: &BodySet) {
-        let (a, b) = (self.a, self.b);
-        self.ima = if bodies.awake[a] {
-            bodies.inv_mass[a]
-        } else {
-            0.0
-        };
-        self.imb = if bodies.awake[b] {
-            bodies.inv_mass[b]
-        } else {
-            0.0
-        };
-        self.ia = if self.ima > 0.0 {
-            bodies.inv_inertia_world[a]
-        } else {
-            M3::zeros()
-        };
-        self.ib = if self.imb > 0.0 {
-            bodies.inv_inertia_world[b]
-        } else {
-            M3::zeros()
-        };
-        let f = self.frames(bodies);
-        self.rb = f.rb;
+    /// The constraint rows at the frames `f` and how many there are.
+    fn build_rows(&self, f: &Frames) -> ([Row; 6], usize) {
         use FreeJointKind as K;
         let mut rows = [Row::default(); 6];
         let mut n = 0;
@@ -404,6 +378,46 @@ impl FreeJoint {
             }
             K::Ball | K::Free => {}
         }
+        (rows, n)
+    }
+
+    /// The accumulated impulses (world, at B's current rotation `rot_b`) along `rows`.
+    fn impulses_along(&self, rows: &[Row], rot_b: &M3) -> [f64; 6] {
+        let _ = rot_b;
+        let (lin, ang) = (self.lin_impulse, self.ang_impulse);
+        let mut l = [0.0; 6];
+        for (x, r) in l.iter_mut().zip(rows) {
+            *x = r.dir.dot(if r.linear { &lin } else { &ang });
+        }
+        l
+    }
+
+    /// Jacobians and effective masses from the current poses (called at the start of each
+    /// step and of each substep's solve, so that fast-turning bodies keep exact anchors).
+    fn refresh(&mut self, bodies: &BodySet) {
+        let (a, b) = (self.a, self.b);
+        self.ima = if bodies.awake[a] {
+            bodies.inv_mass[a]
+        } else {
+            0.0
+        };
+        self.imb = if bodies.awake[b] {
+            bodies.inv_mass[b]
+        } else {
+            0.0
+        };
+        self.ia = if self.ima > 0.0 {
+            bodies.inv_inertia_world[a]
+        } else {
+            M3::zeros()
+        };
+        self.ib = if self.imb > 0.0 {
+            bodies.inv_inertia_world[b]
+        } else {
+            M3::zeros()
+        };
+        let f = self.frames(bodies);
+        let (rows, n) = self.build_rows(&f);
         let mut k = M6::identity();
         for i in 0..n {
             for j in 0..n {
@@ -412,14 +426,7 @@ impl FreeJoint {
         }
         self.k_inv = k.try_inverse().unwrap_or(M6::zeros());
         // The accumulated impulses in the new rows.
-        for i in 0..n {
-            let v = if rows[i].linear {
-                self.lin_impulse
-            } else {
-                self.ang_impulse
-            };
-            self.lambda[i] = rows[i].dir.dot(&v);
-        }
+        self.lambda = self.impulses_along(&rows[..n], &bodies.rot[self.b]);
         self.rows = rows;
         self.n_rows = n;
         for k in 0..self.kind.driven_dofs() {
@@ -429,7 +436,7 @@ impl FreeJoint {
 
     /// Prepares the step: Jacobians and effective masses from the current poses, and the
     /// coordinates' rates at the step's start.
-    pub fn prepare(&mut self, bodies: &BodySet) {
+    pub(crate) fn prepare(&mut self, bodies: &BodySet) {
         self.refresh(bodies);
         self.record_rates(bodies);
     }
@@ -446,9 +453,14 @@ impl FreeJoint {
     }
 
     /// Applies the accumulated impulses of the constraint rows.
-    pub fn warm_start(&self, bodies: &mut BodySet) {
-        for i in 0..self.n_rows {
-            self.apply_row(bodies, &self.rows[i], self.lambda[i]);
+    pub(crate) fn warm_start(&self, bodies: &mut BodySet) {
+        if self.n_rows == 0 {
+            return;
+        }
+        let (rows, n) = self.build_rows(&self.frames(bodies));
+        let lambda = self.impulses_along(&rows[..n], &bodies.rot[self.b]);
+        for i in 0..n {
+            self.apply_row(bodies, &rows[i], lambda[i]);
         }
     }
 
@@ -478,6 +490,39 @@ impl FreeJoint {
             K::Ball | K::Free => V3::zeros(),
         };
         (f.d, ang)
+    }
+
+    /// The constraint rows' rates.
+    fn block_rates(&self, bodies: &BodySet) -> [f64; 6] {
+        let mut r = [0.0; 6];
+        for (x, row) in r.iter_mut().zip(&self.rows[..self.n_rows]) {
+            *x = self.row_rate(bodies, row);
+        }
+        r
+    }
+
+    /// Brings the constraint rows' rates back to `target` (rigidly), after the coordinates'
+    /// rows changed them.
+    fn restore_block(&mut self, bodies: &mut BodySet, target: &[f64; 6]) {
+        let n = self.n_rows;
+        let mut rhs = nalgebra::Vector6::zeros();
+        for i in 0..n {
+            rhs[i] = self.row_rate(bodies, &self.rows[i]) - target[i];
+        }
+        let dl = -(self.k_inv * rhs);
+        let (mut lin, mut ang) = (V3::zeros(), V3::zeros());
+        for i in 0..n {
+            self.lambda[i] += dl[i];
+            let r = self.rows[i];
+            self.apply_row(bodies, &r, dl[i]);
+            if r.linear {
+                lin += r.dir * self.lambda[i];
+            } else {
+                ang += r.dir * self.lambda[i];
+            }
+        }
+        self.lin_impulse = lin;
+        self.ang_impulse = ang;
     }
 
     /// One pass over the constraint rows as one block: `Δλ = −K⁻¹ (J V + β C) s_m − s_i λ`.
@@ -519,7 +564,7 @@ impl FreeJoint {
     /// substep), without it the pass only removes velocity errors (the relax pass). A joint
     /// with driven coordinates solves its constraint block, then the coordinates' rows (with
     /// their effective masses under the constraints), then the block again.
-    pub fn solve(&mut self, bodies: &mut BodySet, soft: &Softness, use_bias: bool) {
+    pub(crate) fn solve(&mut self, bodies: &mut BodySet, soft: &Softness, use_bias: bool) {
         let driven = self.has_drives();
         if use_bias {
             self.refresh(bodies);
@@ -538,10 +583,16 @@ impl FreeJoint {
             (0.0, 1.0, 0.0)
         };
         self.solve_block(bodies, block_soft, use_bias);
-        if driven {
+        if driven && self.n_rows > 0 {
+            // The rates the block chose (with its position correction), which the
+            // coordinates' impulses disturb and the block then restores.
+            let target = self.block_rates(bodies);
             self.solve_dofs(bodies, soft, use_bias);
-            // Only the velocity errors the coordinates' impulses left.
-            self.solve_block(bodies, (0.0, 1.0, 0.0), false);
+            self.restore_block(bodies, &target);
+        } else if driven {
+            self.solve_dofs(bodies, soft, use_bias);
+        }
+        if driven {
             self.record_rates(bodies);
         }
     }
@@ -571,7 +622,7 @@ impl FreeJoint {
     /// Current anchor gap (m): how far the joint's constrained directions have drifted
     /// apart (the distance between the anchors, less any slide a prismatic or cylindrical
     /// joint allows).
-    pub fn gap(&self, bodies: &BodySet) -> f64 {
+    pub(crate) fn gap(&self, bodies: &BodySet) -> f64 {
         let f = self.frames(bodies);
         match self.kind {
             FreeJointKind::Free => 0.0,
@@ -587,7 +638,7 @@ impl FreeJoint {
     /// relative rotation of a fixed or prismatic joint, the misalignment of a revolute or
     /// cylindrical joint's axes, the change of a universal joint's axis angle; 0 for ball and
     /// free joints.
-    pub fn angular_gap(&self, bodies: &BodySet) -> f64 {
+    pub(crate) fn angular_gap(&self, bodies: &BodySet) -> f64 {
         let f = self.frames(bodies);
         match self.kind {
             FreeJointKind::Fixed | FreeJointKind::Prismatic { .. } => {
