@@ -66,8 +66,8 @@ pub struct FreeJoint {
     n_rows: usize,
     k_inv: M6,
     lambda: [f64; 6],
-    /// The accumulated impulses as vectors in B's frame, linear and angular: they turn with
-    /// B (a hinged body's load turns with it), and are expressed in each substep's rows.
+    /// The accumulated impulses as vectors (world), linear and angular, expressed in each
+    /// substep's rows (whose directions may turn with body A).
     lin_impulse: V3,
     ang_impulse: V3,
 }
@@ -381,13 +381,15 @@ impl FreeJoint {
         (rows, n)
     }
 
-    /// The accumulated impulses (world, at B's current rotation `rot_b`) along `rows`.
-    fn impulses_along(&self, rows: &[Row], rot_b: &M3) -> [f64; 6] {
-        let _ = rot_b;
-        let (lin, ang) = (self.lin_impulse, self.ang_impulse);
+    /// The accumulated impulses along `rows`.
+    fn impulses_along(&self, rows: &[Row]) -> [f64; 6] {
         let mut l = [0.0; 6];
         for (x, r) in l.iter_mut().zip(rows) {
-            *x = r.dir.dot(if r.linear { &lin } else { &ang });
+            *x = r.dir.dot(if r.linear {
+                &self.lin_impulse
+            } else {
+                &self.ang_impulse
+            });
         }
         l
     }
@@ -426,7 +428,7 @@ impl FreeJoint {
         }
         self.k_inv = k.try_inverse().unwrap_or(M6::zeros());
         // The accumulated impulses in the new rows.
-        self.lambda = self.impulses_along(&rows[..n], &bodies.rot[self.b]);
+        self.lambda = self.impulses_along(&rows[..n]);
         self.rows = rows;
         self.n_rows = n;
         for k in 0..self.kind.driven_dofs() {
@@ -458,7 +460,7 @@ impl FreeJoint {
             return;
         }
         let (rows, n) = self.build_rows(&self.frames(bodies));
-        let lambda = self.impulses_along(&rows[..n], &bodies.rot[self.b]);
+        let lambda = self.impulses_along(&rows[..n]);
         for i in 0..n {
             self.apply_row(bodies, &rows[i], lambda[i]);
         }
