@@ -6,7 +6,8 @@ use super::handles::{BodyHandle, JointHandle, Slots};
 use super::islands::Islands;
 use super::{Effect, Effects, FreeForces, FreeIntegrator, IntegratorKind, Stage, StepCounters};
 use crate::dynamics::solver::{
-    ContactBatches, ContactConstraint, ContactSettings, FreeJoint, Softness, SolvePass,
+    ContactBatches, ContactConstraint, ContactSettings, ContactStiffness, FreeJoint, Softness,
+    SolvePass,
 };
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
 use crate::geometry::{BroadPhase, NarrowPhase, Shape, V3};
@@ -58,6 +59,12 @@ pub struct SolverSettings {
     pub contact_hertz_cap: f64,
     /// Contact damping ratio (–).
     pub contact_damping_ratio: f64,
+    /// Stiffness of a contact between two moving bodies of equal mass, as a multiple of
+    /// `contact_hertz` (–), within the same cap; it falls to `contact_hertz` at a mass ratio of
+    /// 10 ([`ContactStiffness`]). 1.5 holds a tower of 40 equal boxes within 1 mm for 20 s at
+    /// the default step (120 Hz lets it lean 12 cm), while a 1 g box under 1 kg keeps the
+    /// 120 Hz it needs.
+    pub even_mass_stiffening: f64,
     /// Soft contacts (Box2D soft step: springs of `contact_hertz`) when true; rigid contacts
     /// with a position bias of `contact_bias_rate` when false (soft is the default).
     pub soft_contacts: bool,
@@ -91,6 +98,7 @@ impl Default for SolverSettings {
             contact_hertz: 120.0,
             contact_hertz_cap: 0.25,
             contact_damping_ratio: 10.0,
+            even_mass_stiffening: 1.5,
             soft_contacts: true,
             contact_bias_rate: 20.0,
             joint_hertz: 60.0,
@@ -454,10 +462,26 @@ impl World {
             let rigid = Softness::rigid(self.settings.contact_bias_rate.min(0.5 * inv_h));
             (rigid, rigid)
         };
+        if self.settings.soft_contacts {
+            let cap = self.settings.contact_hertz_cap * inv_h;
+            let stiffness = ContactStiffness {
+                hertz: hz,
+                even_hertz: (self.settings.even_mass_stiffening * hz).min(cap).max(hz),
+                static_hertz: 2.0 * hz,
+                damping_ratio: self.settings.contact_damping_ratio,
+                substep: h,
+            };
+            for c in &mut self.constraints {
+                c.stiffen(&stiffness);
+            }
+        } else {
+            for c in &mut self.constraints {
+                c.set_softness(soft);
+            }
+        }
         self.batched = self.settings.batch_contacts && !self.constraints.is_empty();
         if self.batched {
-            self.batches
-                .build(&self.constraints, self.bodies.len(), &soft, &soft_static);
+            self.batches.build(&self.constraints, self.bodies.len());
             self.counters.contact_colours = self.batches.colours;
             self.counters.contact_groups = self.batches.groups();
         }
@@ -659,16 +683,14 @@ impl World {
                 j.solve(&mut self.bodies, joint_soft, pass.use_bias);
             }
         }
-        let softness = |c: &ContactConstraint| if c.against_static { soft_static } else { soft };
         if self.batched {
             self.batches.solve(&mut self.bodies, inv_h, max_push, pass);
             for &ci in &self.batches.scalar {
-                let c = &mut self.constraints[ci];
-                c.solve(&mut self.bodies, softness(c), inv_h, max_push, pass);
+                self.constraints[ci].solve(&mut self.bodies, inv_h, max_push, pass);
             }
         } else {
             for c in &mut self.constraints {
-                c.solve(&mut self.bodies, softness(c), inv_h, max_push, pass);
+                c.solve(&mut self.bodies, inv_h, max_push, pass);
             }
         }
         if !self.tree_contacts.contacts.is_empty() {

@@ -111,13 +111,7 @@ impl PointLanes {
 impl ContactGroup {
     /// Fills the group in place (its buffers are reused step after step) with the
     /// constraints `members` (at most [`WIDTH`]); unused lanes and points become zeros.
-    fn fill(
-        &mut self,
-        constraints: &[ContactConstraint],
-        members: &[usize],
-        soft: &Softness,
-        hard: &Softness,
-    ) {
+    fn fill(&mut self, constraints: &[ContactConstraint], members: &[usize]) {
         self.lanes = members.len();
         for l in 0..WIDTH {
             let c = members.get(l).map(|&ci| (ci, &constraints[ci]));
@@ -134,7 +128,7 @@ impl ContactGroup {
             self.ima.0[l] = x(|c| c.ima);
             self.imb.0[l] = x(|c| c.imb);
             self.friction.0[l] = x(|c| c.friction);
-            let s = c.map_or(soft, |c| if c.against_static { hard } else { soft });
+            let s = c.map_or(Softness::rigid(0.0), |c| c.softness);
             self.bias_rate.0[l] = s.bias_rate;
             self.mass_scale.0[l] = s.mass_scale;
             self.impulse_scale.0[l] = s.impulse_scale;
@@ -290,15 +284,8 @@ pub struct ContactBatches {
 }
 
 impl ContactBatches {
-    /// Colours and groups `constraints`; `soft` and `hard` are the softness of contacts between
-    /// two moving bodies and against a body that does not move.
-    pub fn build(
-        &mut self,
-        constraints: &[ContactConstraint],
-        n_bodies: usize,
-        soft: &Softness,
-        hard: &Softness,
-    ) {
+    /// Colours and groups `constraints` (each with its own softness).
+    pub fn build(&mut self, constraints: &[ContactConstraint], n_bodies: usize) {
         self.live = 0;
         self.scalar.clear();
         self.colours = 0;
@@ -346,7 +333,7 @@ impl ContactBatches {
         let mut groups = self.groups.iter_mut();
         for m in &self.members[..self.colours] {
             for (chunk, g) in m.chunks(WIDTH).zip(groups.by_ref()) {
-                g.fill(constraints, chunk, soft, hard);
+                g.fill(constraints, chunk);
             }
         }
         self.live = count;
@@ -503,9 +490,8 @@ mod tests {
         let n = 40;
         let b = bodies(n);
         let c = constraints(&b, n);
-        let soft = Softness::new(120.0, 10.0, 1.0 / 720.0);
         let mut batches = ContactBatches::default();
-        batches.build(&c, n, &soft, &soft);
+        batches.build(&c, n);
         // A chain needs two colours; every constraint is in exactly one group.
         assert_eq!(batches.colours, 2);
         assert!(batches.scalar.is_empty());
@@ -535,9 +521,16 @@ mod tests {
         let n = 8;
         let base = bodies(n);
         let all = constraints(&base, n);
-        let pick: Vec<ContactConstraint> = [0, 2, 4, 6].iter().map(|&i| all[i]).collect();
-        let soft = Softness::new(120.0, 10.0, 1.0 / 720.0);
-        let hard = Softness::new(240.0, 10.0, 1.0 / 720.0);
+        let mut pick: Vec<ContactConstraint> = [0, 2, 4, 6].iter().map(|&i| all[i]).collect();
+        // Each constraint with its own softness, as loads make them.
+        for (k, c) in pick.iter_mut().enumerate() {
+            let hz = if c.against_static {
+                240.0
+            } else {
+                120.0 + 40.0 * k as f64
+            };
+            c.set_softness(Softness::new(hz, 10.0, 1.0 / 720.0));
+        }
         for pass in [
             SolvePass {
                 use_bias: true,
@@ -550,15 +543,14 @@ mod tests {
         ] {
             let (mut scalar_bodies, mut scalar) = (base.clone(), pick.clone());
             for c in &mut scalar {
-                let s = if c.against_static { &hard } else { &soft };
-                c.solve(&mut scalar_bodies, s, 720.0, 3.0, pass);
+                c.solve(&mut scalar_bodies, 720.0, 3.0, pass);
             }
             // Both copies of the lane code: the one this processor runs (AVX2 where present)
             // and the baseline one.
             for baseline in [false, true] {
                 let (mut batch_bodies, mut batched) = (base.clone(), pick.clone());
                 let mut batches = ContactBatches::default();
-                batches.build(&batched, n, &soft, &hard);
+                batches.build(&batched, n);
                 assert_eq!((batches.colours, batches.groups()), (1, 1));
                 if baseline {
                     solve_all(

@@ -5,7 +5,7 @@
 //! `ra`, `rb` from each centre of mass to the contact (m), normal from A to B. Effective masses
 //! (kg) and the angular responses `I⁻¹ (r × n)` are precomputed in [`ContactConstraint::prepare`].
 
-use super::Softness;
+use super::{ContactStiffness, Softness};
 use crate::dynamics::BodySet;
 use crate::geometry::{Manifold, Shape, M3, MAX_MANIFOLD_POINTS, V3};
 
@@ -112,6 +112,9 @@ pub struct ContactConstraint {
     rolling_impulse: V3,
     /// Whether one body cannot move (stiffer softness).
     pub against_static: bool,
+    /// The soft coefficients of the normal rows ([`ContactConstraint::stiffen`]); until set,
+    /// rigid without position bias.
+    pub(super) softness: Softness,
     pub(super) len: usize,
     pub(super) points: [PointConstraint; MAX_MANIFOLD_POINTS],
 }
@@ -237,9 +240,34 @@ impl ContactConstraint {
                 V3::zeros()
             },
             against_static: ima == 0.0 || imb == 0.0,
+            softness: Softness::rigid(0.0),
             len: m.len,
             points,
         }
+    }
+
+    /// Takes its stiffness from the bodies' mass ratio ([`ContactStiffness`]).
+    pub fn stiffen(&mut self, k: &ContactStiffness) {
+        self.softness = k.softness(self.against_static, self.mass_ratio());
+    }
+
+    /// Ratio of the heavier to the lighter moving body (1 against a body that does not move).
+    pub fn mass_ratio(&self) -> f64 {
+        if self.against_static {
+            1.0
+        } else {
+            self.ima.max(self.imb) / self.ima.min(self.imb)
+        }
+    }
+
+    /// Sets the soft coefficients of the normal rows.
+    pub fn set_softness(&mut self, s: Softness) {
+        self.softness = s;
+    }
+
+    /// The soft coefficients of the normal rows.
+    pub fn softness(&self) -> Softness {
+        self.softness
     }
 
     #[inline]
@@ -275,17 +303,12 @@ impl ContactConstraint {
         }
     }
 
-    /// One pass over the points: normal (with position bias in the substep's solve pass),
-    /// friction, rolling resistance. `inv_h` = 1 / substep (1/s).
-    pub fn solve(
-        &mut self,
-        bodies: &mut BodySet,
-        soft: &Softness,
-        inv_h: f64,
-        max_push: f64,
-        pass: SolvePass,
-    ) {
+    /// One pass over the points: normal (with the position bias of its
+    /// [`ContactConstraint::softness`] in the substep's solve pass), friction, rolling
+    /// resistance. `inv_h` = 1 / substep (1/s).
+    pub fn solve(&mut self, bodies: &mut BodySet, inv_h: f64, max_push: f64, pass: SolvePass) {
         let SolvePass { use_bias, reverse } = pass;
+        let soft = self.softness;
         let (a, b) = (self.a, self.b);
         let n = self.normal;
         let (ima, imb) = (self.ima, self.imb);

@@ -23,4 +23,4 @@ pub use contact_constraint::{ContactConstraint, ContactSettings, SolvePass};
 pub use joint_constraint::{FreeJoint, MAX_DRIVEN_DOFS};
 pub use joint_dofs::{DofDrive, DofLimits, DofMotor, LIMIT_BOUNCE_SPEED};
 pub use joint_kind::{FreeJointKind, JointKindError};
-pub use softness::Softness;
+pub use softness::{ContactStiffness, Softness};

@@ -1,0 +1,129 @@
+//! Hard stacks at the default solver settings: the scene states only its physics (bodies,
+//! masses, friction, gravity and the game's 1/60 s step), never substeps, stiffness or an
+//! integrator.
+//!
+//! * A leaning stack of 25 unit boxes, each shifted 3 cm over the one below: statically
+//!   stable (the centre of mass of the boxes above any box lies 12.5 cm inside its top face),
+//!   so it must stand: no box moves more than 2 cm in 20 s (reduced run: 5 s). It does not
+//!   yet: the test is ignored until the solver holds it (`--ignored` runs it).
+//! * A unit box 500 times heavier than the boxes of a 10-layer pyramid, dropped 0.5 m onto
+//!   its top: no box sinks more than 5 cm into the ground, and after 3 s every body moves at
+//!   less than 1 m/s (every point of it).
+//!
+//! The default run is reduced; the full lengths run with `VPHYS_FULL_HARD_CASES=1` (use
+//! `--release`), as the hard-case battery does:
+//!
+//!     VPHYS_FULL_HARD_CASES=1 cargo test -p virtual-physics --release --test hard_stacks
+
+use virtual_physics::dynamics::BodyKind;
+use virtual_physics::geometry::Shape;
+use virtual_physics::pipeline::World;
+use virtual_physics::scene::builtin::{pyramid, towers, unit_cube};
+
+mod scene_order;
+use scene_order::*;
+
+fn full() -> bool {
+    std::env::var("VPHYS_FULL_HARD_CASES").is_ok_and(|v| v == "1")
+}
+
+/// Steps at 1/60 s: `reduced` in the default run, `full_len` with `VPHYS_FULL_HARD_CASES=1`.
+fn length(reduced: usize, full_len: usize) -> usize {
+    if full() {
+        full_len
+    } else {
+        reduced
+    }
+}
+
+/// Panics on a NaN or infinite pose or velocity.
+fn assert_finite(w: &World, case: &str) {
+    for (i, b) in w.bodies().enumerate() {
+        let ok = [b.position(), b.linear_velocity(), b.angular_velocity()]
+            .iter()
+            .all(|v| v.iter().all(|x| x.is_finite()));
+        assert!(ok, "{case}: body {i} is not finite at t = {}", w.time());
+    }
+}
+
+/// Depth (m) of the lowest corner of a box body below the ground plane `z = 0` (0 if above).
+fn ground_penetration(w: &World) -> f64 {
+    let mut deepest: f64 = 0.0;
+    for b in w.bodies() {
+        if let Shape::Cuboid { half } = *b.shape() {
+            let r = b.rotation();
+            // Lowest corner: each axis's contribution to z taken with the sign that lowers it.
+            let reach: f64 = (0..3).map(|k| (r[(2, k)] * half[k]).abs()).sum();
+            deepest = deepest.max(reach - b.position().z);
+        }
+    }
+    deepest
+}
+
+/// Fastest point of any dynamic body (m/s): `|v| + |ω| ρ`, `ρ` the bounding radius.
+fn fastest_point(w: &World) -> f64 {
+    w.bodies()
+        .filter(|b| b.kind() == BodyKind::Dynamic)
+        .map(|b| {
+            b.linear_velocity().norm() + b.angular_velocity().norm() * b.shape().bounding_radius()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Boxes shifted along x by this much (m) per layer in the leaning stack.
+const LEAN_PER_LAYER: f64 = 0.03;
+
+#[test]
+#[ignore = "topples at the default settings (measured: 3.5 m at 5 s; 14 cm with 48 substeps \
+            and 240 Hz contacts): soft contacts tilt under the off-centre load; run with \
+            --ignored"]
+fn a_leaning_stack_of_25_boxes_stands() {
+    let n = 25;
+    let mut s = towers(1, 1, 0);
+    for k in 0..n {
+        s.bodies
+            .push(unit_cube([k as f64 * LEAN_PER_LAYER, 0.0, 0.5 + k as f64]));
+    }
+    // Statics: the boxes above box k (k ≥ 0) have their centre of mass (n − k) / 2 layers'
+    // shift beyond box k's centre, which must lie inside its half width of 0.5 m.
+    let overhang = (n as f64) / 2.0 * LEAN_PER_LAYER;
+    assert!(overhang < 0.5 - 0.1, "not statically stable with margin");
+    let mut w = s.build().unwrap();
+    let start = positions(&w);
+    let mut worst: f64 = 0.0;
+    for _ in 0..length(300, 1200) {
+        w.step().unwrap();
+        for (b, p0) in w.bodies().zip(&start) {
+            worst = worst.max((b.position() - p0).norm());
+        }
+    }
+    assert_finite(&w, "leaning stack");
+    assert!(worst <= 0.02, "a box moved {worst} m");
+}
+
+#[test]
+fn a_heavy_box_dropped_on_a_pyramid_is_carried() {
+    let layers = 10;
+    let ratio = 500.0;
+    let mut s = pyramid(layers);
+    let top = 0.5 + (layers - 1) as f64;
+    let mut heavy = unit_cube([0.0, 0.0, top + 1.0 + 0.5]);
+    heavy.mass = Some(ratio * 1.0);
+    s.bodies.push(heavy);
+    let mut w = s.build().unwrap();
+    let mut deepest: f64 = 0.0;
+    for _ in 0..180 {
+        w.step().unwrap();
+        deepest = deepest.max(ground_penetration(&w));
+    }
+    assert_finite(&w, "heavy box on a pyramid");
+    let fastest = fastest_point(&w);
+    // The heavy box is carried: it rests above the pyramid's top layer.
+    let heavy_z = body_at(&w, w.body_count() - 1).position().z;
+    assert!(heavy_z > top, "the heavy box sank to z = {heavy_z} m");
+    assert!(deepest <= 0.05, "a box sank {deepest} m into the ground");
+    assert!(
+        fastest < 1.0,
+        "a point still moves at {fastest} m/s after 3 s"
+    );
+}
