@@ -99,14 +99,38 @@ fn away_team_is_mirrored() {
     let in_front = ball(-0.225 - 0.03, 0.0, 0.0, 0.0);
     let d = desired_pose(&t, rod, &in_front, RodTarget::default());
     assert!(d.angle_rad > 0.0, "{d:?}");
-    // A ball just behind the Away attack does not make it shoot: its men lift (feet
-    // horizontal, +π/2 for Away) and stay there instead of spinning.
-    let behind_away = ball(-0.225 + 0.03, 0.0, 0.0, 0.0);
+    // A ball rolling past just behind the Away attack does not make it shoot: its men
+    // lift (feet horizontal, +π/2 for Away) and stay there instead of spinning.
+    let behind_away = ball(-0.225 + 0.03, 0.0, 0.5, 0.0);
     let pose = settle(&t, rod, &behind_away, 300);
     assert!(
         (pose.angle_rad - std::f64::consts::FRAC_PI_2).abs() < 1e-9,
         "{pose:?}"
     );
+}
+
+#[test]
+fn a_slow_ball_that_no_rod_would_play_is_reached_for() {
+    use space_foosball::ai::{REACH_BACK_FORWARD_SHARE, STRIKE_ZONE};
+    let t = Table::standard();
+    let spin = |rod: usize, b: &BallState| settle(&t, rod, b, 100).angle_rad;
+    // Home attack (x = 0.225, attacking +x: forward spin is negative).
+    let reach = t.reach_x_m(5);
+    // In front, just beyond the strike zone: a slow ball is shot, a fast one left.
+    let x = 0.225 + 0.5 * (STRIKE_ZONE[1] + 1.0) * reach;
+    assert!(spin(5, &ball(x, 0.0, 0.1, 0.0)) < -1.0);
+    assert!(spin(5, &ball(x, 0.0, 1.0, 0.0)).abs() < 1e-9);
+    // Still, just behind the axis, and no Home rod behind has it in its strike zone:
+    // spun forward (the foot comes round and meets it from behind).
+    let close = 0.5 * REACH_BACK_FORWARD_SHARE * reach;
+    assert!(spin(5, &ball(0.225 - close, 0.0, 0.0, 0.0)) < -1.0);
+    // Still and far behind: kicked backward, towards the own rods.
+    let far = 0.5 * (REACH_BACK_FORWARD_SHARE + 1.0) * reach;
+    assert!(spin(5, &ball(0.225 - far, 0.0, 0.0, 0.0)) > 1.0);
+    // The goalkeeper never kicks backward (his own goal): forward there too.
+    let keeper_reach = t.reach_x_m(0);
+    let b = ball(-0.525 - 0.8 * keeper_reach, 0.0, 0.0, 0.0);
+    assert!(spin(0, &b) < -1.0);
 }
 
 #[test]

@@ -18,6 +18,12 @@
 //!   no foot comes down on the ball. Otherwise they **rest** feet down (the nearest
 //!   multiple of 2π, so turns are never unwound — or the next one forward when the feet
 //!   are swung forward over a ball in reach, see [`REST_FORWARD_RAD`]).
+//! * **Reaching** for a slow ball that would otherwise be left alone
+//!   ([`REACH_SLOW_BALL_M_PER_S`], [`REACH_BEHIND_SLOW_BALL_M_PER_S`]): in front of the
+//!   rod within its reach but beyond the strike zone, it shoots; behind the rod, where no
+//!   own rod behind could shoot it, it spins forward when the ball is close behind the
+//!   axis and kicks it backward when it is further (never the goalkeeper, who spins
+//!   forward there too) — so a ball does not come to rest beside a man who ignores it.
 //! * The targets move at most [`AiLimits`] per step: the rods are driven bodies, so a
 //!   target reached within one step would mean an impossible velocity.
 //!
@@ -91,6 +97,81 @@ pub const MAX_INCOMING_TO_SHOOT_M_PER_S: f64 = 1.0;
 /// to rest by carrying on over the top, not by swinging back down onto the ball.
 pub const REST_FORWARD_RAD: f64 = 0.2;
 
+/// A ball slower than this (m/s, along the field) in front of a rod, within its reach
+/// but beyond the strike zone, is **reached for**: the rod shoots it (it may lift a
+/// little), so that a slow ball does not roll out of the rod's reach untouched, into a
+/// corner where nobody reaches. Well above the rules' "slow" (0.05 m/s): the rod goes
+/// for it before it stops.
+pub const REACH_SLOW_BALL_M_PER_S: f64 = 0.6;
+
+/// A ball slower than this (m/s) behind a rod, within its reach, where no own rod
+/// behind could shoot it, is reached for as well ([`REACH_BACK_FORWARD_SHARE`]). Lower
+/// than in front: spinning at a faster ball under or behind the rod tends to trap it
+/// under the foot.
+pub const REACH_BEHIND_SLOW_BALL_M_PER_S: f64 = 0.3;
+
+/// A slow ball behind the rod axis by less than this share of the reach is reached for
+/// by spinning **forward**: the foot comes round over the top and meets the ball from
+/// behind low in its swing, sending it forward. Further behind, the foot would come
+/// down on top of it, so the rod kicks it **backward** instead (towards its own rods),
+/// except the goalkeeper, whose back kick would be an own goal.
+pub const REACH_BACK_FORWARD_SHARE: f64 = 0.5;
+
+/// How a rod plays a slow ball it reaches for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Reach {
+    /// Not reaching for the ball.
+    No,
+    /// Spin forward (towards the opponent at the bottom of the swing).
+    Forward,
+    /// Spin backward.
+    Backward,
+}
+
+/// Whether a rod of `rod`'s team behind it (towards its own goal) has the ball at
+/// `(bx, by)` in its strike zone and on a foot.
+fn own_rod_behind_can_shoot(table: &Table, rod: usize, bx: f64, by: f64) -> bool {
+    let r = &table.rods[rod];
+    let dir = r.team.attack_dir();
+    table.rods.iter().enumerate().any(|(i, other)| {
+        if i == rod || other.team != r.team || (other.x_m - r.x_m) * dir >= 0.0 {
+            return false;
+        }
+        let reach = table.reach_x_m(i);
+        let ahead = (bx - other.x_m) * dir;
+        (STRIKE_ZONE[0] * reach..=reach).contains(&ahead) && table.rod_covers_y(i, by)
+    })
+}
+
+/// How rod `rod` reaches for a slow ball `ahead` (m, along its attack direction) of it,
+/// at `(bx, by)`.
+fn reach_for(table: &Table, rod: usize, ball: &BallState, ahead: f64) -> Reach {
+    let [bx, by, _] = ball.position;
+    let [vx, vy, _] = ball.velocity;
+    let reach = table.reach_x_m(rod);
+    let speed = vx.hypot(vy);
+    if ahead.abs() > reach || !table.rod_covers_y(rod, by) {
+        return Reach::No;
+    }
+    if ahead >= STRIKE_ZONE[0] * reach {
+        // In front, in reach: shoot (beyond the strike zone the ball may lift a little).
+        return if speed < REACH_SLOW_BALL_M_PER_S {
+            Reach::Forward
+        } else {
+            Reach::No
+        };
+    }
+    if speed >= REACH_BEHIND_SLOW_BALL_M_PER_S || own_rod_behind_can_shoot(table, rod, bx, by) {
+        return Reach::No;
+    }
+    let keeper = table.rods[rod].role == Role::Goalkeeper;
+    if keeper || ahead >= -REACH_BACK_FORWARD_SHARE * reach {
+        Reach::Forward
+    } else {
+        Reach::Backward
+    }
+}
+
 /// The pose a rod rests in: same slide, feet down at the nearest whole turn.
 pub fn resting(current: RodTarget) -> RodTarget {
     RodTarget {
@@ -143,12 +224,21 @@ pub fn desired_pose_aimed(
     // Shooting uses the man in front of the ball now (not the predicted crossing).
     let shooter = r.nearest_man(by, current.slide_m);
     let on_foot = shooter.miss_m <= 0.5 * character.foot_width_m + ball_r;
-    let in_reach = (STRIKE_ZONE[0] * reach..=STRIKE_ZONE[1] * reach).contains(&ahead)
+    let in_strike_zone = (STRIKE_ZONE[0] * reach..=STRIKE_ZONE[1] * reach).contains(&ahead)
         && -vx * dir < MAX_INCOMING_TO_SHOOT_M_PER_S;
+    let reaching = if in_strike_zone {
+        Reach::No
+    } else {
+        reach_for(table, rod, ball, ahead)
+    };
+    let in_reach = in_strike_zone || reaching != Reach::No;
     let rest = nearest_angle(current.angle_rad, 0.0);
     // How far the feet are swung forward (towards the opponent) from hanging down, rad.
     let forward = -dir * (current.angle_rad - rest);
-    let angle_rad = if in_reach && on_foot {
+    let angle_rad = if in_reach && on_foot && reaching == Reach::Backward {
+        // Kick it back: a quarter turn behind where the rod is.
+        current.angle_rad + dir * FRAC_PI_2
+    } else if in_reach && on_foot {
         // Keep spinning forward: a quarter turn ahead of where the rod is.
         current.angle_rad - dir * FRAC_PI_2
     } else if ahead < 0.0 {
@@ -162,7 +252,10 @@ pub fn desired_pose_aimed(
     } else {
         rest
     };
-    let slide_m = if in_reach && on_foot {
+    let slide_m = if reaching != Reach::No && !on_foot {
+        // Reaching for a slow ball: the man nearest it goes to it.
+        shooter.slide_m
+    } else if in_reach && on_foot {
         // Keep the shooter lined up with the ball (and the aim) while kicking.
         let aim = if aim_m.is_finite() { aim_m } else { 0.0 };
         r.nearest_man(by + aim, current.slide_m).slide_m
