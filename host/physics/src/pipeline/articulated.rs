@@ -9,7 +9,7 @@
 //! | kind | tree step |
 //! |---|---|
 //! | `explicit-euler` | `q ← q ⊞ h q̇`, then `q̇ += h q̈(q₀, q̇₀)` |
-//! | `symplectic-euler` (default), `implicit-gyroscopic` | linearly implicit Euler: `(M + h D + h² K) Δq̇ = h (τ − bias)` at `q ⊞ h q̇`, `q̇ += Δq̇`, then `q ← q ⊞ h q̇` — `D`, `K` the velocity and position Jacobians of the bias forces (Coriolis, centrifugal, gyroscopic, gravity), O(n) by an articulated-body recursion (`pipeline/implicit_step.rs`); trees with shapes or drives take the same update inside the world's substeps |
+//! | `symplectic-euler` (default), `implicit-gyroscopic` | linearly implicit Euler: `(M + h D + h² K) Δq̇ = h (τ − bias)` at `q ⊞ h q̇`, `q̇ += Δq̇`, then `q ← q ⊞ h q̇` — `D`, `K` the velocity and position Jacobians of the bias forces (Coriolis, centrifugal, gyroscopic, gravity), O(n) by an articulated-body recursion (`pipeline/implicit_step.rs`) |
 //! | `rkmk4` | RK4 on `(θ, q̇)` in the chart (Munthe-Kaas), 4 ABA calls |
 //! | `energy-momentum` | implicit midpoint `q̇₁ = q̇₀ + h q̈(q₀ ⊞ (h/2) q̇_m, q̇_m)`, `q ← q₀ ⊞ h q̇_m`, fixed-point iterations (symmetric, second order; exact energy is a free-body property) |
 
@@ -22,7 +22,7 @@ use crate::algebra::{exp_so3, log_so3, se3, Vec3, SE3};
 use crate::dynamics::{aba, DynamicsError, Workspace};
 use crate::geometry::{Material, Shape, M3, V3};
 use crate::model::ArticulatedTree;
-use implicit_step::{implicit_solve, implicit_velocity_update, ImplicitWorkspace};
+use implicit_step::{implicit_velocity_update, ImplicitWorkspace};
 
 /// Fixed-point iterations of the tree's implicit midpoint step: stop when `|Δq̇|∞` is below
 /// this (rad/s or m/s) …
@@ -189,19 +189,6 @@ impl ArticulatedSystem {
         }
         self.qdd = dqd;
         r.map(|_| ())
-    }
-
-    /// `out = (M + h D + h² K)⁻¹ tau` with the operator of the last implicit velocity update
-    /// (the tree's response to an impulse given in that step), or `M⁻¹ tau` before one.
-    pub(crate) fn apply_step_inverse(
-        &mut self,
-        tau: &[f64],
-        out: &mut [f64],
-    ) -> Result<(), DynamicsError> {
-        match implicit_solve(&self.tree, &mut self.iws, tau, out) {
-            Some(()) => Ok(()),
-            None => self.apply_inverse_mass(tau, out),
-        }
     }
 
     fn step_explicit(&mut self, h: f64) -> Result<(), DynamicsError> {
@@ -576,10 +563,18 @@ impl ArticulatedSystem {
         r
     }
 
-    /// The velocity stage inside the contact solve: the linearly implicit update
-    /// `q̇ += (M + h D + h² K)⁻¹ h (τ − bias)` (see [`ArticulatedSystem::step`]'s table).
+    /// The velocity stage of semi-implicit Euler inside the contact solve: `q̇ += h q̈`
+    /// (explicit velocity products; the linearly implicit update of the free-standing trees
+    /// did not hold a whipping chain under a shaken root here either — README, "Long chains").
     pub(crate) fn velocity_stage(&mut self, h: f64) -> Result<(), DynamicsError> {
-        self.implicit_velocity(h)
+        let (q, qd) = (std::mem::take(&mut self.q), std::mem::take(&mut self.qd));
+        let r = self.forward_dynamics(&q, &qd);
+        (self.q, self.qd) = (q, qd);
+        r?;
+        for (v, a) in self.qd.iter_mut().zip(&self.qdd) {
+            *v += h * a;
+        }
+        Ok(())
     }
 
     /// The position stage: `q ← q ⊞ h q̇`.

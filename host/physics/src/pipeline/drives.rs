@@ -143,10 +143,7 @@ impl ArticulatedSystem {
         }
     }
 
-    /// The drives' responses at the current `q`, refreshed every substep after the velocity
-    /// stage: `(M + h D + h² K)⁻¹ e_k`, the operator of that stage's linearly implicit update,
-    /// so that a drive's impulse meets the tree as stiff as the step treats it (with `M⁻¹ e_k`
-    /// the rest of a whipping chain answered the root's impulses explicitly). A
+    /// The drives' responses `M⁻¹ e_k` at the current `q`, refreshed every substep: a
     /// prescribed coordinate's impulse is the whole driving force, and a response from an
     /// older configuration would feed the rest of the tree energy it does not have (a chain
     /// under a shaken anchor blew up within 1.5 s with once-a-step responses).
@@ -160,7 +157,7 @@ impl ArticulatedSystem {
             if d.dof < nv {
                 e[d.dof] = 1.0;
             }
-            let r = self.apply_step_inverse(&e, &mut d.response);
+            let r = self.apply_inverse_mass(&e, &mut d.response);
             if r.is_err() {
                 self.drives = drives;
                 return r;

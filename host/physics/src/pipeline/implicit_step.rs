@@ -66,15 +66,8 @@ pub(crate) struct ImplicitWorkspace {
     k: Vec<M6x12>,
     kappa: Vec<V6>,
     z: Vec<V12>,
-    /// Per link, for further right-hand sides: `D⁻¹`, `U = P Ŝ`, `h² L`, `Ad*_{f⁻¹}`.
-    dinv: Vec<M6>,
-    u: Vec<M6>,
-    l: Vec<M6>,
-    t: Vec<M6>,
     /// `S_kᵀ I_i S_k`, the joint's own rigid inertia per coordinate.
     rigid: Vec<V6>,
-    /// Whether the factors hold a finished update.
-    factored: bool,
 }
 
 impl ImplicitWorkspace {
@@ -97,12 +90,7 @@ impl ImplicitWorkspace {
             k: vec![M6x12::zeros(); n],
             kappa: vec![V6::zeros(); n],
             z: vec![V12::zeros(); n],
-            dinv: vec![M6::zeros(); n],
-            u: vec![M6::zeros(); n],
-            l: vec![M6::zeros(); n],
-            t: vec![M6::zeros(); n],
             rigid: vec![V6::zeros(); n],
-            factored: false,
         }
     }
 }
@@ -228,7 +216,6 @@ fn factor_and_solve(
             });
         }
     }
-    ws.factored = false;
     let bodies = model.bodies();
     let base_acc = se3::new(Vec3::zeros(), -model.gravity());
 
@@ -262,8 +249,8 @@ fn factor_and_solve(
         x.fixed_view_mut::<6, 6>(6, 0)
             .copy_from(&(-hv * (ad_vj * a)));
         let mut s6 = M6::zeros();
-        for k in 0..d {
-            s6.set_column(k, &tw(&s[k]));
+        for (k, col) in s.iter().enumerate() {
+            s6.set_column(k, &tw(col));
         }
         // δq_i = h x_i turns the frame: Ad_{f⁻¹} picks up ad_{Ad V_λ} S and ad_{Ad a_λ} S.
         let sw = s6 + hq * (twist_map(|e| avp.ad(e)) * s6);
@@ -318,12 +305,9 @@ fn factor_and_solve(
         let kappa = dinv * r;
         ws.k[i] = k;
         ws.kappa[i] = kappa;
-        ws.dinv[i] = dinv;
-        ws.u[i] = u;
         if let Some(parent) = body.parent {
             let f = ws.f[i];
             let t = wrench_map(|e| f.dad_inv(e));
-            ws.t[i] = t;
             // The transmitted wrench turns with the joint: −h² Ad*(ad*_{S x_i} F⁰_i).
             let f0 = dse3::new(
                 Vec3::new(ws.f0[i][0], ws.f0[i][1], ws.f0[i][2]),
@@ -334,7 +318,6 @@ fn factor_and_solve(
                 l.set_column(c, &wr(&ws.s_cols[vo + c].dad(&f0)));
             }
             let l = (hv * hq) * l;
-            ws.l[i] = l;
             let pc = p * x - u * k + l * k;
             let pbc = ws.pb[i] + u * kappa - l * kappa;
             ws.p[parent] += t * pc;
@@ -352,48 +335,7 @@ fn factor_and_solve(
         dqd[vo..vo + d].copy_from_slice(&xi.as_slice()[..d]);
         ws.z[i] = ws.x[i] * zp + ws.shat[i] * xi;
     }
-    ws.factored = true;
     Ok(true)
-}
-
-/// `out = (M + h D + h² K)⁻¹ rhs` with the operator of the last
-/// [`implicit_velocity_update`]: the change of `q̇` for a generalised impulse `rhs` given
-/// during that step (N·s or N·m·s per coordinate). O(n); `None` before an update.
-pub(crate) fn implicit_solve(
-    model: &ArticulatedTree<f64>,
-    ws: &mut ImplicitWorkspace,
-    rhs: &[f64],
-    out: &mut [f64],
-) -> Option<()> {
-    if !ws.factored || rhs.len() != ws.ndofs || out.len() != ws.ndofs {
-        return None;
-    }
-    let bodies = model.bodies();
-    ws.pb.iter_mut().for_each(|p| *p = V6::zeros());
-    for i in (0..bodies.len()).rev() {
-        let body = &bodies[i];
-        let (vo, d) = (body.v_offset, body.nv());
-        let st_pb = ws.s[i].transpose() * ws.pb[i];
-        let mut r = V6::zeros();
-        for k in 0..d {
-            r[k] = rhs[vo + k] - st_pb[k];
-        }
-        let kappa = ws.dinv[i] * r;
-        ws.kappa[i] = kappa;
-        if let Some(parent) = body.parent {
-            let pbc = ws.pb[i] + ws.u[i] * kappa - ws.l[i] * kappa;
-            let add = ws.t[i] * pbc;
-            ws.pb[parent] += add;
-        }
-    }
-    for (i, body) in bodies.iter().enumerate() {
-        let (vo, d) = (body.v_offset, body.nv());
-        let zp = body.parent.map_or(V12::zeros(), |p| ws.z[p]);
-        let xi = ws.kappa[i] - ws.k[i] * zp;
-        out[vo..vo + d].copy_from_slice(&xi.as_slice()[..d]);
-        ws.z[i] = ws.x[i] * zp + ws.shat[i] * xi;
-    }
-    Some(())
 }
 
 #[cfg(test)]
