@@ -2,11 +2,11 @@
 //! ball at rest, bouncing, kicked, entering the goal, never through a wall.
 
 use space_foosball::ai::RodTarget;
-use space_foosball::arena::{Arena, ArenaSettings, BodyRole};
+use space_foosball::arena::{Arena, ArenaSettings};
 use space_foosball::rules::ContactWith;
 use space_foosball::Table;
 use std::f64::consts::FRAC_PI_2;
-use virtual_physics::geometry::{Shape, V3};
+use virtual_physics::geometry::V3;
 
 fn lifted(table: &Table) -> Vec<RodTarget> {
     table
@@ -26,6 +26,13 @@ fn settle(a: &mut Arena, targets: &[RodTarget], ms: usize) {
     }
 }
 
+/// The signed distance (m) from world point `p` to rod `rod`'s link (bar and men).
+fn rod_distance(a: &Arena, rod: usize, p: V3) -> f64 {
+    let body = a.world().body(a.rod_body(rod).unwrap()).unwrap();
+    let local = body.rotation().tr_mul(&(p - body.position()));
+    body.shape().signed_distance(&local)
+}
+
 #[test]
 fn men_stand_where_the_table_kinematics_put_them() {
     let table = Table::standard();
@@ -35,35 +42,30 @@ fn men_stand_where_the_table_kinematics_put_them() {
         slide_m: 0.05,
         angle_rad: 0.3,
     };
-    settle(&mut a, &targets, 200);
-    assert_eq!(a.rod_poses()[0], targets[0]);
-    let w = a.world();
-    let b = &w.bodies;
+    settle(&mut a, &targets, 300);
+    let pose = a.rod_poses()[0];
+    // The servo holds the pose against the men's weight: its static error is the gravity
+    // torque over the servo's stiffness, well under a milliradian.
+    assert!((pose.slide_m - 0.05).abs() < 1e-4, "{pose:?}");
+    assert!((pose.angle_rad - 0.3).abs() < 2e-3, "{pose:?}");
     // The keeper's rounded sole: its lowest point along the leg is the table's foot.
-    let sole = (0..b.len())
-        .find(|&i| a.roles()[i] == BodyRole::Man(0) && matches!(b.shape[i], Shape::Capsule { .. }))
-        .unwrap();
-    let Shape::Capsule { radius, .. } = b.shape[sole] else {
-        unreachable!()
-    };
-    // The capsule lies along the rod (table y) and the leg points along −(R e_z) of the
-    // man frame: at angle θ that is (−sin θ, 0, −cos θ)… the foot direction.
-    let down = V3::new(-(0.3f64).sin(), 0.0, -(0.3f64).cos());
-    let p = b.pos[sole] + down * radius;
-    let (fx, fz) = table.foot_xz(0, 0.3);
+    let th = pose.angle_rad;
+    let (fx, fz) = table.foot_xz(0, th);
+    let foot = V3::new(fx, pose.slide_m, fz);
+    let down = V3::new(-th.sin(), 0.0, -th.cos());
+    assert!(rod_distance(&a, 0, foot).abs() < 1e-9, "sole at the foot");
     assert!(
-        (p.x - fx).abs() < 1e-9 && (p.z - fz).abs() < 1e-9,
-        "{p:?} vs {fx} {fz}"
+        rod_distance(&a, 0, foot + down * 1e-3) > 0.9e-3,
+        "nothing below"
     );
-    assert!((p.y - 0.05).abs() < 1e-9);
     assert!(
-        (b.rot[sole].column(2) - V3::y()).norm() < 1e-9,
-        "capsule along the rod"
+        rod_distance(&a, 0, foot - down * 1e-3) < 0.0,
+        "the leg above"
     );
 }
 
 #[test]
-fn rods_stop_softly_at_the_ends_of_their_travel() {
+fn rods_stop_at_the_ends_of_their_travel() {
     let table = Table::standard();
     let mut a = Arena::new(&table).unwrap();
     let half = table.rods[3].half_travel_m();
@@ -71,24 +73,15 @@ fn rods_stop_softly_at_the_ends_of_their_travel() {
     targets[3].slide_m = 0.5; // far beyond the stop
     a.set_rod_targets(&targets);
     let mut last = 0.0;
-    let mut speeds = Vec::new();
-    for _ in 0..200 {
+    for _ in 0..400 {
         a.step();
-        let s = a.rod_poses()[3].slide_m;
-        assert!(s <= half, "{s} beyond {half}");
-        speeds.push((s - last) / 1e-3);
-        last = s;
+        last = a.rod_poses()[3].slide_m;
+        // The limit is a speculative row: the rod never passes the stop.
+        assert!(last <= half + 1e-4, "{last} beyond {half}");
     }
-    assert!((last - half).abs() < 1e-6, "{last}");
-    let max = ArenaSettings::default().max_slide_speed_m_per_s;
-    // Full speed across the travel, then slowing in the bumper before the stop.
-    assert!((speeds[2] - max).abs() < 1e-9, "{:?}", &speeds[..4]);
-    let at_stop = speeds.iter().rposition(|v| *v > 0.1).unwrap();
-    assert!(
-        speeds[at_stop] < 0.5 * max,
-        "{:?}",
-        &speeds[at_stop - 3..=at_stop]
-    );
+    assert!((last - half).abs() < 1e-3, "{last}");
+    // Pushed on into the stop, the hand's servo holds it there at rest.
+    assert!(a.rod_velocities()[3][0].abs() < 1e-3);
 }
 
 #[test]
@@ -131,7 +124,7 @@ fn the_ball_rolls_bounces_off_walls_and_never_passes_them() {
     // Back off the wall at about the table's restitution (0.8) of the approach speed
     // (less what the cloth took while rolling).
     assert!(vy < -0.6 * hit && vy > -0.85 * hit, "{vy} after {hit}");
-    // Shots at 20 m/s (the cap) at every wall and corner stay inside the table.
+    // Hard shots (15 m/s) at every wall and corner stay inside the table.
     for (i, dir) in [
         [1.0, 0.0],
         [-1.0, 0.0],
@@ -148,7 +141,7 @@ fn the_ball_rolls_bounces_off_walls_and_never_passes_them() {
         let mut a = Arena::new(&table).unwrap();
         settle(&mut a, &lifted(&table), 100);
         let y = 0.25 * if i % 2 == 0 { 1.0 } else { -1.0 };
-        a.place_ball([0.0, y, r], [20.0 * dir[0], 20.0 * dir[1], 0.0]);
+        a.place_ball([0.0, y, r], [15.0 * dir[0], 15.0 * dir[1], 0.0]);
         for t in 0..400 {
             a.step();
             assert!(
@@ -157,46 +150,32 @@ fn the_ball_rolls_bounces_off_walls_and_never_passes_them() {
                 a.ball()
             );
             let (gap, with) = a.ball_clearance();
-            assert!(gap > -0.008, "shot {dir:?} step {t}: {gap} into {with:?}");
+            assert!(gap > -0.002, "shot {dir:?} step {t}: {gap} into {with:?}");
         }
     }
 }
 
-/// A 20 m/s shot 3 mm inside the post: into the goal. With one 1 ms world step the
-/// speculative contact with the post's corner bounced it back out (see
-/// `ArenaSettings::world_steps`); the check that this test can fail.
-fn post_shot(settings: ArenaSettings) -> f64 {
+/// A 15 m/s shot (a hard shot) 3 mm inside the post, at one world step per millisecond:
+/// into the goal.
+#[test]
+fn a_fast_ball_enters_the_goal_beside_the_post() {
     let table = Table::standard();
+    let line = 0.5 * table.field.length_m + table.ball.radius_m();
     let r = table.ball.radius_m();
-    let mut a = Arena::with_settings(&table, settings).unwrap();
+    let mut a = Arena::new(&table).unwrap();
     settle(&mut a, &lifted(&table), 100);
     let y = -(0.5 * table.goal.width_m - r - 0.003);
-    a.place_ball([0.45, y, r], [20.0, 0.0, 0.0]);
+    a.place_ball([0.45, y, r], [15.0, 0.0, 0.0]);
     let mut deepest = f64::NEG_INFINITY;
     for _ in 0..30 {
         a.step();
         deepest = deepest.max(a.ball().position[0]);
     }
-    deepest
+    assert!(deepest > line, "fully over the line: {deepest} vs {line}");
 }
 
 #[test]
-fn a_fast_ball_enters_the_goal_beside_the_post() {
-    let table = Table::standard();
-    let line = 0.5 * table.field.length_m + table.ball.radius_m();
-    let x = post_shot(ArenaSettings::default());
-    assert!(x > line, "fully over the line: {x} vs {line}");
-    let coarse = ArenaSettings {
-        world_steps: 1,
-        substeps: 2,
-        ..ArenaSettings::default()
-    };
-    let x = post_shot(coarse);
-    assert!(x < line, "one 1 ms world step bounces it off the post: {x}");
-}
-
-#[test]
-fn a_spun_rod_kicks_the_ball_with_the_speed_of_its_foot() {
+fn a_spun_rod_kicks_the_ball_from_its_foot() {
     let table = Table::standard();
     let r = table.ball.radius_m();
     let rod = 5; // Home attack, x = 0.225, men at y = −0.208, 0, 0.208
@@ -211,27 +190,43 @@ fn a_spun_rod_kicks_the_ball_with_the_speed_of_its_foot() {
     a.place_ball([0.225 + 0.02, 0.0, r], [0.0; 3]);
     let spin = 30.0;
     let mut kick = None;
+    let mut foot_speed = 0.0;
     for k in 0..120 {
         targets[rod].angle_rad = 1.2 - spin * 1e-3 * (k + 1) as f64;
         a.set_rod_targets(&targets);
+        let w = a.rod_velocities()[rod][1];
         let s = a.step();
         if let Some(c) = s
             .contacts
             .iter()
             .find(|c| c.with == (ContactWith::Man { rod }))
         {
-            kick.get_or_insert(c.normal_speed_m_per_s);
+            if kick.is_none() {
+                kick = Some(c.normal_speed_m_per_s);
+                foot_speed = -w * table.character_of(rod).foot_reach_m;
+            }
         }
     }
-    let foot = table.character_of(rod).foot_reach_m * spin;
     let kick = kick.expect("the foot hits the ball");
+    let foot = table.character_of(rod).foot_reach_m * spin;
+    // The servo tracks the hand: the foot arrives at the hand's speed.
     assert!(
-        kick > 0.7 * foot && kick < 1.05 * foot,
+        (foot_speed - foot).abs() < 0.15 * foot,
+        "foot {foot_speed} m/s, hand {foot} m/s"
+    );
+    // An impact at the foot's speed with restitution e gives the ball at most
+    // (1 + e) × the foot's speed (a foot of infinite effective mass).
+    let e = table.ball.restitution;
+    assert!(
+        kick > 0.5 * foot && kick < (1.0 + e) * foot * 1.05,
         "kick {kick} vs foot {foot}"
     );
     let v = a.ball().velocity;
-    // Forward (+x), faster than the foot (restitution), not flying off sideways.
-    assert!(v[0] > foot && v[0] < 2.0 * foot, "{v:?} foot {foot}");
+    // Forward (+x), not flying off sideways.
+    assert!(
+        v[0] > 0.5 * foot && v[0] < (1.0 + e) * foot * 1.05,
+        "{v:?} foot {foot}"
+    );
     assert!(v[1].abs() < 0.2 * v[0], "{v:?}");
 }
 
@@ -240,7 +235,7 @@ fn bad_settings_are_errors() {
     let table = Table::standard();
     for s in [
         ArenaSettings {
-            world_steps: 0,
+            substeps: 0,
             ..ArenaSettings::default()
         },
         ArenaSettings {
@@ -248,7 +243,11 @@ fn bad_settings_are_errors() {
             ..ArenaSettings::default()
         },
         ArenaSettings {
-            max_ball_speed_m_per_s: f64::NAN,
+            hand_torque_n_m: f64::NAN,
+            ..ArenaSettings::default()
+        },
+        ArenaSettings {
+            hand_force_n: -1.0,
             ..ArenaSettings::default()
         },
     ] {

@@ -1,4 +1,4 @@
-//! The table → the bodies of a Virtual Physics world.
+//! The table → the bodies and trees of a Virtual Physics world.
 //!
 //! Everything here is in the table frame (see [`crate::table`]): metres, `z` up, the
 //! field surface at `z = 0`. Bodies:
@@ -6,29 +6,30 @@
 //! * **field**: a fixed half-space `z ≤ 0` (the cloth: rolling resistance, low bounce);
 //! * **cover**: a fixed half-space at [`cover_height_m`] (above the men's sweep), the
 //!   table's transparent lid, so a lifted ball falls back instead of leaving the table;
-//! * **walls**: fixed boxes up to the cover — two side walls, two end walls each split around its goal
-//!   mouth (two pieces beside it, a lintel above it), and per goal a box behind the mouth
-//!   (two sides, back, roof) whose floor is the field;
+//! * **walls**: fixed boxes up to the cover — two side walls with a slot where each rod
+//!   passes through, two end walls each split around its goal mouth (two pieces beside
+//!   it, a lintel above it), and per goal a box behind the mouth (two sides, back, roof)
+//!   whose floor is the field;
 //! * **corner ramps**: in each corner a fixed box whose top face is the plane rising from
 //!   the field to `corner_ramp_height_m` at the corner over `corner_ramp_m` along both
 //!   walls (below the field elsewhere, so it only shows in the corner);
-//! * **rods**: kinematic cylinders along `y` at `rod_height_m`;
-//! * **men**: per man the character's boxes ([`crate::table::CharacterParams::boxes`])
-//!   with a rounded sole ([`man_shapes`]), each a kinematic body placed from the rod
-//!   pose (hinged at the shoulder = the rod axis, rigid on the rod);
+//! * **rods**: one articulated tree each ([`super::rods`]): the bar and its men are the
+//!   shapes of one link on a cylindrical joint;
 //! * **ball**: a dynamic sphere.
 
-use super::ArenaSettings;
+use super::rods;
+use super::{ArenaError, ArenaSettings};
 use crate::table::Table;
-use virtual_physics::dynamics::{BodyKind, BodySet, Material};
-use virtual_physics::geometry::{Shape, M3, V3};
+use virtual_physics::geometry::{Material, Shape, M3, V3};
+use virtual_physics::pipeline::{BodyBuilder, BodyHandle, TreeHandle, World};
 
 /// Wall thickness, m: thick against tunnelling (the ball moves at most ~2 cm per step).
 pub const WALL_THICKNESS_M: f64 = 0.05;
 /// Radius of the steel rods, m (16 mm rods).
 pub const ROD_RADIUS_M: f64 = 0.008;
-/// How far the rods stick out through the side walls, m.
-const ROD_OVERHANG_M: f64 = 0.1;
+/// Gap around a rod where it passes through a side wall, m: more than the speculative
+/// contact distance, so a bar spinning in its slot does not touch the wall.
+pub(crate) const ROD_SLOT_GAP_M: f64 = 0.008;
 /// Half thickness of the corner-ramp boxes, m.
 const RAMP_HALF_THICKNESS_M: f64 = 0.05;
 
@@ -39,48 +40,22 @@ pub enum BodyRole {
     Field,
     /// A wall, the cover, a corner ramp or a goal box.
     Wall,
-    /// The steel bar of rod `rod`.
-    Rod(usize),
-    /// A box of a man of rod `rod`.
+    /// The link of rod `rod`: its steel bar and all its men (one compound body).
     Man(usize),
     /// The ball.
     Ball,
 }
 
-/// One box of one man: where it sits on its rod.
-#[derive(Debug, Clone, Copy)]
-pub struct ManPart {
-    /// Body index.
-    pub body: usize,
-    /// Offset of the man along the rod at slide 0, m.
-    pub offset_m: f64,
-    /// Shape centre in the man frame (origin on the rod axis at the man's centre), m.
-    pub local_centre: V3,
-    /// Shape orientation in the man frame.
-    pub local_rot: M3,
-}
-
-/// The bodies of one rod.
-#[derive(Debug, Clone)]
-pub struct RodBodies {
-    /// The bar (kinematic cylinder).
-    pub bar: usize,
-    /// Every box of every man on it.
-    pub parts: Vec<ManPart>,
-    /// Rod axis position along `x`, m.
-    pub x_m: f64,
-}
-
-/// The built bodies and what each one is.
-pub struct Built {
-    /// The bodies, for `World::new`.
-    pub bodies: BodySet,
-    /// Role of each body, by index.
-    pub roles: Vec<BodyRole>,
-    /// Per rod of the table.
-    pub rods: Vec<RodBodies>,
-    /// The ball's index.
-    pub ball: usize,
+/// The built world's bodies and trees.
+pub(crate) struct Built {
+    /// Role of each body of the world, by storage index.
+    pub(crate) roles: Vec<BodyRole>,
+    /// Each rod's tree, per rod of the table.
+    pub(crate) rods: Vec<TreeHandle>,
+    /// Each rod's link body (bar and men), per rod of the table.
+    pub(crate) rod_bodies: Vec<BodyHandle>,
+    /// The ball.
+    pub(crate) ball: BodyHandle,
 }
 
 /// Rotation about `+y` by `angle` (rad): the rod's turn (0 = feet down).
@@ -95,11 +70,12 @@ pub fn z_to_y_rotation() -> M3 {
 }
 
 /// The materials of the arena, from the table's ball and the settings.
-struct Materials {
+pub(crate) struct Materials {
     cloth: Material,
     wall: Material,
     goal: Material,
-    man: Material,
+    /// The men and the bars.
+    pub(crate) man: Material,
     ball: Material,
 }
 
@@ -107,7 +83,7 @@ impl Materials {
     /// Friction mixes as `sqrt(μa μb)`, restitution and rolling resistance as the larger
     /// of the two: so the ball carries the friction and no bounce, and each surface its
     /// own bounce (walls and men the table's exaggerated restitution, the cloth less).
-    fn new(table: &Table, settings: &ArenaSettings) -> Self {
+    pub(crate) fn new(table: &Table, settings: &ArenaSettings) -> Self {
         let b = &table.ball;
         let mu = b.friction;
         Self {
@@ -141,57 +117,43 @@ impl Materials {
     }
 }
 
-struct Builder {
-    bodies: BodySet,
-    roles: Vec<BodyRole>,
+struct Builder<'w> {
+    world: &'w mut World,
+    roles: Vec<(BodyHandle, BodyRole)>,
 }
 
-impl Builder {
-    fn fixed_box(&mut self, centre: V3, half: V3, rot: M3, material: Material) -> usize {
-        self.push(
-            BodyRole::Wall,
-            BodyKind::Fixed,
+impl Builder<'_> {
+    fn fixed(&mut self, shape: Shape, centre: V3, rot: M3, material: Material, role: BodyRole) {
+        let h = self.world.insert_body(
+            BodyBuilder::fixed(shape)
+                .name(format!("{role:?}"))
+                .material(material)
+                .position(centre)
+                .rotation(rot),
+        );
+        self.roles.push((h, role));
+    }
+
+    fn fixed_box(&mut self, centre: V3, half: V3, rot: M3, material: Material) {
+        self.fixed(
             Shape::Cuboid { half },
-            material,
-            0.0,
             centre,
             rot,
-        )
+            material,
+            BodyRole::Wall,
+        );
     }
 
-    /// An axis-aligned fixed box from its corners.
-    fn wall(&mut self, min: V3, max: V3, material: Material) -> usize {
-        self.fixed_box(
-            (min + max) * 0.5,
-            (max - min) * 0.5,
-            M3::identity(),
-            material,
-        )
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn push(
-        &mut self,
-        role: BodyRole,
-        kind: BodyKind,
-        shape: Shape,
-        material: Material,
-        mass: f64,
-        pos: V3,
-        rot: M3,
-    ) -> usize {
-        self.roles.push(role);
-        self.bodies.push(
-            format!("{role:?}"),
-            kind,
-            shape,
-            material,
-            mass,
-            pos,
-            rot,
-            V3::zeros(),
-            V3::zeros(),
-        )
+    /// An axis-aligned fixed box from its corners (nothing when it is empty).
+    fn wall(&mut self, min: V3, max: V3, material: Material) {
+        if (max - min).min() > 0.0 {
+            self.fixed_box(
+                (min + max) * 0.5,
+                (max - min) * 0.5,
+                M3::identity(),
+                material,
+            );
+        }
     }
 }
 
@@ -256,8 +218,13 @@ pub fn man_shapes(character: &crate::table::CharacterParams) -> Vec<(Shape, V3, 
     ]
 }
 
-/// Builds the bodies of `table` (rods at slide 0, angle 0; the ball at rest in the middle).
-pub fn build(table: &Table, settings: &ArenaSettings) -> Built {
+/// Builds the table into the empty `world`: fixed geometry, one tree per rod (centred,
+/// feet down), the ball at rest in the middle.
+pub(crate) fn build(
+    table: &Table,
+    settings: &ArenaSettings,
+    world: &mut World,
+) -> Result<Built, ArenaError> {
     let m = Materials::new(table, settings);
     let f = &table.field;
     let g = &table.goal;
@@ -267,37 +234,45 @@ pub fn build(table: &Table, settings: &ArenaSettings) -> Built {
     let wh = cover_height_m(table);
     let (gw, gh, gd) = (0.5 * g.width_m, g.height_m, g.depth_m);
     let mut b = Builder {
-        bodies: BodySet::default(),
+        world,
         roles: Vec::new(),
     };
-    b.push(
-        BodyRole::Field,
-        BodyKind::Fixed,
+    b.fixed(
         Shape::HalfSpace { normal: V3::z() },
-        m.cloth,
-        0.0,
         V3::zeros(),
         M3::identity(),
+        m.cloth,
+        BodyRole::Field,
     );
     if settings.cover {
-        b.push(
-            BodyRole::Wall,
-            BodyKind::Fixed,
+        b.fixed(
             Shape::HalfSpace { normal: -V3::z() },
-            m.wall,
-            0.0,
             V3::new(0.0, 0.0, wh),
             M3::identity(),
+            m.wall,
+            BodyRole::Wall,
         );
     }
-    // Side walls, over the whole length and the end walls' thickness.
+    // Side walls, over the whole length and the end walls' thickness, with a slot where
+    // each rod passes through: below the slots, above them, and between them.
+    let slot = ROD_RADIUS_M + ROD_SLOT_GAP_M;
+    let (z0, z1) = (f.rod_height_m - slot, f.rod_height_m + slot);
+    let mut xs: Vec<f64> = table.rods.iter().map(|r| r.x_m).collect();
+    xs.sort_by(f64::total_cmp);
     for sy in [-1.0, 1.0] {
         let (y0, y1) = if sy > 0.0 {
             (hw, hw + t)
         } else {
             (-hw - t, -hw)
         };
-        b.wall(V3::new(-hl - t, y0, -t), V3::new(hl + t, y1, wh), m.wall);
+        b.wall(V3::new(-hl - t, y0, -t), V3::new(hl + t, y1, z0), m.wall);
+        b.wall(V3::new(-hl - t, y0, z1), V3::new(hl + t, y1, wh), m.wall);
+        let mut from = -hl - t;
+        for &x in &xs {
+            b.wall(V3::new(from, y0, z0), V3::new(x - slot, y1, z1), m.wall);
+            from = x + slot;
+        }
+        b.wall(V3::new(from, y0, z0), V3::new(hl + t, y1, z1), m.wall);
     }
     for sx in [-1.0f64, 1.0] {
         let (x0, x1) = if sx > 0.0 {
@@ -353,62 +328,47 @@ pub fn build(table: &Table, settings: &ArenaSettings) -> Built {
             }
         }
     }
-    // Rods and men.
-    let mut rods = Vec::with_capacity(table.rods.len());
-    for (i, rod) in table.rods.iter().enumerate() {
-        let bar = b.push(
-            BodyRole::Rod(i),
-            BodyKind::Kinematic,
-            Shape::Cylinder {
-                radius: ROD_RADIUS_M,
-                half_height: hw + t + ROD_OVERHANG_M,
-            },
-            m.man,
-            0.0,
-            V3::new(rod.x_m, 0.0, f.rod_height_m),
-            z_to_y_rotation(),
-        );
-        let character = table.character_of(i);
-        let mut parts = Vec::new();
-        for offset_m in rod.man_offsets() {
-            for (shape, local_centre, local_rot) in man_shapes(&character) {
-                let body = b.push(
-                    BodyRole::Man(i),
-                    BodyKind::Kinematic,
-                    shape,
-                    m.man,
-                    0.0,
-                    V3::new(rod.x_m, offset_m, f.rod_height_m) + local_centre,
-                    local_rot,
-                );
-                parts.push(ManPart {
-                    body,
-                    offset_m,
-                    local_centre,
-                    local_rot,
-                });
-            }
-        }
-        rods.push(RodBodies {
-            bar,
-            parts,
-            x_m: rod.x_m,
-        });
-    }
     let r = table.ball.radius_m();
-    let ball = b.push(
-        BodyRole::Ball,
-        BodyKind::Dynamic,
-        Shape::Sphere { radius: r },
-        m.ball,
-        table.ball.mass_kg,
-        V3::new(0.0, 0.0, r),
-        M3::identity(),
+    let ball = b.world.insert_body(
+        BodyBuilder::dynamic(Shape::Sphere { radius: r })
+            .name("ball")
+            .material(m.ball)
+            .mass(table.ball.mass_kg)
+            .position(V3::new(0.0, 0.0, r)),
     );
-    Built {
-        bodies: b.bodies,
-        roles: b.roles,
-        rods,
-        ball,
+    b.roles.push((ball, BodyRole::Ball));
+    // Rods and men: one tree per rod.
+    let mut trees = Vec::with_capacity(table.rods.len());
+    let mut rod_bodies = Vec::with_capacity(table.rods.len());
+    for i in 0..table.rods.len() {
+        let system = rods::rod_system(table, i, settings, m.man)?;
+        let tree = b.world.insert_tree(system);
+        let body = b
+            .world
+            .link_body(tree.link(0))
+            .ok_or(ArenaError::Rod { rod: i })?;
+        trees.push(tree);
+        rod_bodies.push(body);
     }
+    // Roles by storage index; a rod's link is named through the world's link map.
+    let world = &*b.world;
+    let roles = world
+        .body_handles()
+        .map(|h| {
+            if let Some(link) = world.link_of(h) {
+                let rod = trees.iter().position(|t| *t == link.tree);
+                return rod.map_or(BodyRole::Wall, BodyRole::Man);
+            }
+            b.roles
+                .iter()
+                .find(|(k, _)| *k == h)
+                .map_or(BodyRole::Wall, |(_, role)| *role)
+        })
+        .collect();
+    Ok(Built {
+        roles,
+        rods: trees,
+        rod_bodies,
+        ball,
+    })
 }

@@ -1,36 +1,30 @@
-//! Driving a rod: from the wanted pose to the pose and velocity of one physics step.
+//! The player's hand on a rod: from the calibrated input pose to the targets of the rod's
+//! two servos.
 //!
-//! A rod is a cylindrical joint (slide along `+y`, turn about `+y`) driven as a
-//! kinematic body: each step it gets the velocity that takes it from where it is to
-//! where the input wants it, so a spun rod hits the ball with the speed of its men's
-//! feet (`v = reach · ω`). Two limits shape the motion:
-//!
-//! * **Rubber bumpers** at the travel ends: inside `±(travel/2 − bumper)` the slide
-//!   follows the input exactly; in the last `bumper` metres the wanted slide saturates
-//!   smoothly (`tanh`) onto the stop, and the rod covers at most half its remaining
-//!   distance to the stop per step, like a rubber ring compressing: it decelerates into
-//!   the stop instead of stopping dead, and never passes it.
-//! * **Speed limits** (about twice a strong human's): an input jump (a board reconnecting,
-//!   a glitch) becomes a fast but finite move over a few steps instead of a teleport.
+//! The arena does no physics here: the motors ([`super::rods`]) move the rod, the drive's
+//! limits stop it at the travel ends, and contacts stop it on the ball. What this maps is
+//! the input: the wanted slide passes through a **rubber bumper** (inside
+//! `±(travel/2 − bumper)` it is the input; in the last `bumper` metres it saturates smoothly,
+//! `tanh`, onto the stop), so the servo brakes the rod into its stop as a rubber ring would
+//! instead of driving it onto the limit at full force; a non-finite input keeps the last
+//! target. The target velocity is the target's change over the step (the hand's velocity,
+//! the servo's feed-forward).
 
 use crate::ai::RodTarget;
 
-/// Travel limits of one rod and the speeds it may move at.
+/// The travel of one rod and its rubber bumpers.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RodDrive {
     /// Half the axial travel, m.
     pub half_travel_m: f64,
     /// Length of the rubber bumper at each end, m (0 = a hard stop).
     pub bumper_m: f64,
-    /// Fastest slide, m/s.
-    pub max_slide_speed_m_per_s: f64,
-    /// Fastest spin, rad/s.
-    pub max_spin_rad_per_s: f64,
 }
 
 impl RodDrive {
-    /// The slide (m) the rod takes for a wanted slide `wanted_m`: identity in the middle
-    /// of the travel, a smooth saturation onto `±half_travel_m` over the bumper.
+    /// The slide (m) the rod is driven to for a wanted slide `wanted_m`: identity in the
+    /// middle of the travel, a smooth saturation onto `±half_travel_m` over the bumper;
+    /// 0 for a non-finite input.
     pub fn bumper_slide(&self, wanted_m: f64) -> f64 {
         let half = self.half_travel_m;
         let c = self.bumper_m.min(half);
@@ -48,37 +42,21 @@ impl RodDrive {
         }
     }
 
-    /// The next pose after one step of `dt_s` seconds from `current` towards `wanted`,
-    /// and the velocity `(slide m/s, spin rad/s)` that gets there.
-    pub fn next(&self, current: RodTarget, wanted: RodTarget, dt_s: f64) -> (RodTarget, [f64; 2]) {
-        let slide_goal = self.bumper_slide(wanted.slide_m);
-        let angle_goal = if wanted.angle_rad.is_finite() {
-            wanted.angle_rad
-        } else {
-            current.angle_rad
-        };
-        let ds_max = self.max_slide_speed_m_per_s * dt_s;
-        let da_max = self.max_spin_rad_per_s * dt_s;
-        let mut ds = (slide_goal - current.slide_m).clamp(-ds_max, ds_max);
-        // The rubber: within `bumper_m` of the stop the rod covers at most half the
-        // remaining distance per step, so it decelerates into the stop over a few
-        // steps instead of hitting it at full speed.
-        let to_stop = self.half_travel_m - ds.signum() * current.slide_m;
-        let c = self.bumper_m.min(self.half_travel_m);
-        if c > 0.0 && ds != 0.0 {
-            let allowed = if to_stop <= 1e-6 {
-                to_stop.max(0.0)
+    /// The servo targets (slide m, angle rad) for the wanted pose, given the last targets:
+    /// the slide through the bumper; a non-finite coordinate keeps its last target.
+    pub fn motor_target(&self, wanted: RodTarget, last: RodTarget) -> RodTarget {
+        RodTarget {
+            slide_m: if wanted.slide_m.is_finite() {
+                self.bumper_slide(wanted.slide_m)
             } else {
-                (to_stop - c).max(0.0) + 0.5 * to_stop.min(c)
-            };
-            ds = ds.signum() * ds.abs().min(allowed);
+                last.slide_m
+            },
+            angle_rad: if wanted.angle_rad.is_finite() {
+                wanted.angle_rad
+            } else {
+                last.angle_rad
+            },
         }
-        let da = (angle_goal - current.angle_rad).clamp(-da_max, da_max);
-        let next = RodTarget {
-            slide_m: current.slide_m + ds,
-            angle_rad: current.angle_rad + da,
-        };
-        (next, [ds / dt_s, da / dt_s])
     }
 }
 
@@ -90,8 +68,6 @@ mod tests {
         RodDrive {
             half_travel_m: 0.09,
             bumper_m: 0.005,
-            max_slide_speed_m_per_s: 4.0,
-            max_spin_rad_per_s: 150.0,
         }
     }
 
@@ -115,29 +91,27 @@ mod tests {
     }
 
     #[test]
-    fn speeds_are_limited_and_reach_the_target() {
+    fn non_finite_input_keeps_the_last_target() {
         let d = drive();
-        let (next, v) = d.next(
-            RodTarget::default(),
+        let last = RodTarget {
+            slide_m: 0.01,
+            angle_rad: 0.2,
+        };
+        let t = d.motor_target(
             RodTarget {
-                slide_m: 0.05,
-                angle_rad: 10.0,
+                slide_m: f64::NAN,
+                angle_rad: f64::INFINITY,
             },
-            1e-3,
+            last,
         );
-        assert!((next.slide_m - 0.004).abs() < 1e-15);
-        assert!((next.angle_rad - 0.15).abs() < 1e-12);
-        assert!((v[0] - 4.0).abs() < 1e-9 && (v[1] - 150.0).abs() < 1e-9);
-        let (next, v) = d.next(
-            RodTarget::default(),
+        assert_eq!(t, last);
+        let t = d.motor_target(
             RodTarget {
-                slide_m: 0.001,
-                angle_rad: -0.02,
+                slide_m: 0.3,
+                angle_rad: -1.0,
             },
-            1e-3,
+            last,
         );
-        assert_eq!(next.slide_m, 0.001);
-        assert_eq!(next.angle_rad, -0.02);
-        assert!((v[0] - 1.0).abs() < 1e-9 && (v[1] + 20.0).abs() < 1e-9);
+        assert!(t.slide_m <= 0.09 && t.angle_rad == -1.0);
     }
 }

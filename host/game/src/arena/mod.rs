@@ -1,38 +1,40 @@
 //! The table as a Virtual Physics world, stepped at 1 kHz (paper §5, §5.1).
 //!
 //! [`Arena`] builds the world from a [`Table`] ([`build`]: field, cover, walls with goal
-//! mouths and goal boxes, corner ramps, rods, men, ball), drives the rods towards the
-//! targets it is given ([`drive`]: kinematic bodies with the velocity that reaches the
-//! target, rubber bumpers at the travel ends), steps the world by [`DT_S`] and reports
-//! the ball's state and its contacts ([`contacts`]) as the [`crate::rules`] want them.
+//! mouths and goal boxes, corner ramps, the ball; [`rods`]: each rod an articulated tree —
+//! a cylindrical joint from the table to the rod, its bar and men as the shapes of the rod's
+//! link, the player's hand as a force- and torque-limited servo on each degree of freedom,
+//! the travel's limits), maps the targets it is given to the servos' targets ([`drive`]:
+//! rubber bumpers at the travel ends), takes one world step of [`DT_S`] and reports the
+//! ball's state and its contacts ([`contacts`]) as the [`crate::rules`] want them.
 //!
 //! Table frame throughout (see [`crate::table`]): metres, `z` up, rods along `y`, a rod's
 //! pose is its slide along `+y` and its angle about `+y` (0 = feet down); each man is
 //! rigid on his rod, hinged at the shoulder on the rod axis, exactly as
 //! `foosball_render::FrameSnapshot::posed` draws him.
 //!
-//! The ball: a dynamic sphere with the table's diameter and mass, friction and spin from
-//! the contacts, rolling resistance on the cloth, the table's (deliberately exaggerated)
-//! restitution against men and walls, and continuous collision (speculative contacts
-//! swept by the velocity), so it does not tunnel through men or walls
-//! (`tests/arena.rs`, `tests/computer_matches.rs` check every step).
+//! Everything that moves is the physics': a man pinning the ball stops his rod at the
+//! hand's force while the target keeps going, a kick's speed comes from the foot's impact,
+//! the ball's velocity is its body's. The ball: a dynamic sphere with the table's diameter
+//! and mass, friction and spin from the contacts, rolling resistance on the cloth, the
+//! table's (deliberately exaggerated) restitution against men and walls, and the world's
+//! continuous collision (`tests/arena.rs`, `tests/computer_matches.rs` check every step).
 
 pub mod build;
 pub mod contacts;
 pub mod drive;
+pub mod rods;
 
 pub use build::{BodyRole, ROD_RADIUS_M, WALL_THICKNESS_M};
 pub use drive::RodDrive;
 
 use crate::ai::RodTarget;
-use crate::rules::{BallState, Contact, ContactWith};
+use crate::rules::{BallState, Contact};
 use crate::table::{Table, TableError};
-use build::RodBodies;
-use virtual_physics::dynamics::BodyKind;
 use virtual_physics::geometry::V3;
-use virtual_physics::pipeline::{Effect, Effects, SolverSettings, World};
+use virtual_physics::pipeline::{BodyHandle, Effect, Effects, SolverSettings, TreeHandle, World};
 
-/// The physics step, s: 1 ms (1 kHz).
+/// The physics step, s: 1 ms (1 kHz), one world step.
 pub const DT_S: f64 = 1e-3;
 
 /// Standard gravity, m/s².
@@ -54,25 +56,25 @@ pub enum ArenaError {
         /// What it is.
         value: f64,
     },
+    /// A rod's shapes or mass gave no rigid body (a table the validation let through).
+    #[error("rod {rod} cannot be built as an articulated body")]
+    Rod {
+        /// The rod's index in the table.
+        rod: usize,
+    },
 }
 
-/// Tunable physics of the arena (what the paper tuned for playability).
+/// Tunable physics of the arena (what the paper tuned for playability) and the player's
+/// hand.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ArenaSettings {
-    /// Most physics world steps per 1 ms arena step (collision detection runs once per
-    /// world step). More than one keeps the engine's speculative contacts honest at
-    /// speed: a speculative contact closes along the normal found at the start of a
-    /// world step, so a fast ball passing a corner (a goal post, a man's edge) within
-    /// about one world step's travel of it can be stopped or bounced as if it had
-    /// touched (`tests/arena.rs::a_fast_ball_enters_the_goal_beside_the_post`). Each step
-    /// uses as few as keep the travel per world step within `world_step_travel_m`.
-    pub world_steps: usize,
-    /// Longest travel of the ball (or of a foot near it) per world step, m.
-    pub world_step_travel_m: f64,
-    /// Solver substeps per world step.
+    /// Solver substeps of the one world step per millisecond.
     pub substeps: usize,
     /// Contact stiffness, Hz (capped by the engine at a quarter of the substep rate).
     pub contact_hertz: f64,
+    /// Damping ratio of the soft contacts: lower pushes an overlap out faster (a pinned
+    /// ball pressed at the hand's force overlaps the foot by less).
+    pub contact_damping_ratio: f64,
     /// Approach speed below which contacts do not bounce, m/s.
     pub restitution_threshold_m_per_s: f64,
     /// Restitution of the ball on the cloth (walls and men use the table's ball
@@ -82,48 +84,44 @@ pub struct ArenaSettings {
     pub goal_restitution: f64,
     /// Friction coefficient of the men (mixed with the ball's as `sqrt(μa μb)`).
     pub man_friction: f64,
-    /// Rubber bumper length at each travel end, m.
+    /// Rubber bumper length at each travel end, m: where the slide's target saturates.
     pub bumper_m: f64,
-    /// Fastest rod slide, m/s.
-    pub max_slide_speed_m_per_s: f64,
-    /// Fastest rod spin, rad/s.
-    pub max_spin_rad_per_s: f64,
+    /// Strongest push or pull of the hand along a rod, N.
+    pub hand_force_n: f64,
+    /// Strongest twist of the hand about a rod, N·m.
+    pub hand_torque_n_m: f64,
+    /// Natural frequency of the hand's servos on each rod's own mass and inertia, Hz.
+    pub servo_hertz: f64,
+    /// Damping ratio of the hand's servos.
+    pub servo_damping_ratio: f64,
     /// Whether the table has its transparent cover at wall height.
     pub cover: bool,
-    /// A rod whose men end a step deeper than this in the ball is held where it was for
-    /// that step (the ball pins it), m.
-    pub pin_overlap_m: f64,
-    /// Fastest push-out of an overlap, m/s: above a foot's speed (reach · spin), so a
-    /// foot coming down on the ball squeezes it out instead of pinning it into the cloth.
+    /// Fastest push-out of an overlap, m/s.
     pub max_push_velocity_m_per_s: f64,
-    /// Fastest the ball may move, m/s: faster is scaled down after the step (a guard
-    /// for playability and for continuous collision; hard shots reach ~15 m/s).
-    pub max_ball_speed_m_per_s: f64,
 }
 
 impl Default for ArenaSettings {
-    /// 1 to 4 world steps (at most 5 mm of travel each) with 1 substep each (a lone
-    /// ball needs no stacking stiffness; the cost is measured by
-    /// `space-foosball bench match`), 250 Hz contacts, bounces above 0.1 m/s, a lively
-    /// but lower bounce on the cloth (0.3), 5 mm rubber bumpers, rods up to 5 m/s and
-    /// 200 rad/s (about twice a strong player), covered table, ball at most 20 m/s.
+    /// 4 substeps and 1 kHz contacts (a 27 g ball pressed by a rod at the hand's force
+    /// overlaps it by well under a millimetre), bounces above 0.1 m/s, a lively but lower
+    /// bounce on the cloth (0.3), 5 mm rubber bumpers, a strong player's hand (200 N along
+    /// the rod, 15 N·m about it: the game README says where these come from) on 150 Hz
+    /// critically damped servos, covered table.
     fn default() -> Self {
         Self {
-            world_steps: 4,
-            world_step_travel_m: 0.005,
-            substeps: 1,
-            contact_hertz: 250.0,
+            substeps: 4,
+            contact_hertz: 1000.0,
+            contact_damping_ratio: 1.0,
             restitution_threshold_m_per_s: 0.1,
             field_restitution: 0.3,
             goal_restitution: 0.1,
             man_friction: 0.6,
             bumper_m: 0.005,
-            max_slide_speed_m_per_s: 5.0,
-            max_spin_rad_per_s: 200.0,
+            hand_force_n: 200.0,
+            hand_torque_n_m: 15.0,
+            servo_hertz: 150.0,
+            servo_damping_ratio: 1.0,
             cover: true,
-            max_ball_speed_m_per_s: 20.0,
-            max_push_velocity_m_per_s: 10.0,
-            pin_overlap_m: 0.002,
+            max_push_velocity_m_per_s: 3.0,
         }
     }
 }
@@ -142,23 +140,22 @@ impl ArenaSettings {
             }
         };
         check(
-            "world_steps",
-            self.world_steps as f64,
-            (1..=64).contains(&self.world_steps),
-            "1…64",
-        )?;
-        check(
             "substeps",
             self.substeps as f64,
             (1..=64).contains(&self.substeps),
             "1…64",
         )?;
-        check(
-            "contact_hertz",
-            self.contact_hertz,
-            self.contact_hertz > 0.0,
-            "positive",
-        )?;
+        for (what, v) in [
+            ("contact_hertz", self.contact_hertz),
+            ("contact_damping_ratio", self.contact_damping_ratio),
+            ("hand_force_n", self.hand_force_n),
+            ("hand_torque_n_m", self.hand_torque_n_m),
+            ("servo_hertz", self.servo_hertz),
+            ("servo_damping_ratio", self.servo_damping_ratio),
+            ("max_push_velocity_m_per_s", self.max_push_velocity_m_per_s),
+        ] {
+            check(what, v, v > 0.0, "positive")?;
+        }
         check(
             "restitution_threshold_m_per_s",
             self.restitution_threshold_m_per_s,
@@ -177,43 +174,7 @@ impl ArenaSettings {
             (0.0..=10.0).contains(&self.man_friction),
             "within 0…10",
         )?;
-        check("bumper_m", self.bumper_m, self.bumper_m >= 0.0, "≥ 0")?;
-        check(
-            "world_step_travel_m",
-            self.world_step_travel_m,
-            self.world_step_travel_m > 0.0,
-            "positive",
-        )?;
-        check(
-            "pin_overlap_m",
-            self.pin_overlap_m,
-            self.pin_overlap_m >= 0.0,
-            "≥ 0",
-        )?;
-        check(
-            "max_push_velocity_m_per_s",
-            self.max_push_velocity_m_per_s,
-            self.max_push_velocity_m_per_s > 0.0,
-            "positive",
-        )?;
-        check(
-            "max_ball_speed_m_per_s",
-            self.max_ball_speed_m_per_s,
-            self.max_ball_speed_m_per_s > 0.0,
-            "positive",
-        )?;
-        check(
-            "max_slide_speed_m_per_s",
-            self.max_slide_speed_m_per_s,
-            self.max_slide_speed_m_per_s > 0.0,
-            "positive",
-        )?;
-        check(
-            "max_spin_rad_per_s",
-            self.max_spin_rad_per_s,
-            self.max_spin_rad_per_s > 0.0,
-            "positive",
-        )
+        check("bumper_m", self.bumper_m, self.bumper_m >= 0.0, "≥ 0")
     }
 }
 
@@ -231,21 +192,22 @@ pub struct Arena {
     table: Table,
     settings: ArenaSettings,
     world: World,
+    /// Role of each body, by storage index.
     roles: Vec<BodyRole>,
-    rods: Vec<RodBodies>,
+    /// Each rod's tree.
+    rods: Vec<TreeHandle>,
+    /// Each rod's link body (bar and men).
+    rod_bodies: Vec<BodyHandle>,
     drives: Vec<RodDrive>,
-    ball: usize,
-    /// Where each rod is (pose reached at the end of the last step).
-    poses: Vec<RodTarget>,
+    ball: BodyHandle,
+    /// The ball's storage index (as the manifolds name it).
+    ball_index: usize,
     /// Where each rod is asked to go.
     targets: Vec<RodTarget>,
-    /// Each rod's velocity over the last step: slide m/s, spin rad/s.
-    rod_velocities: Vec<[f64; 2]>,
+    /// The servos' targets of the last step.
+    motor_targets: Vec<RodTarget>,
     steps: u64,
     physics_errors: u64,
-    pinned_steps: u64,
-    /// The ball's displacement over the last step / the step, m/s.
-    ball_velocity: V3,
 }
 
 impl Arena {
@@ -259,7 +221,6 @@ impl Arena {
     pub fn with_settings(table: &Table, settings: ArenaSettings) -> Result<Arena, ArenaError> {
         table.validate()?;
         settings.validate()?;
-        let built = build::build(table, &settings);
         let effects = Effects::of(&[
             Effect::Gravity,
             Effect::Contacts,
@@ -267,10 +228,12 @@ impl Arena {
             Effect::Restitution,
             Effect::RollingResistance,
             Effect::ContinuousCollision,
+            Effect::Articulated,
         ]);
         let solver = SolverSettings {
             substeps: settings.substeps,
             contact_hertz: settings.contact_hertz,
+            contact_damping_ratio: settings.contact_damping_ratio,
             restitution_threshold: settings.restitution_threshold_m_per_s,
             // The ball is small: 5 mm of speculative distance is plenty with the swept
             // margin of continuous collision on top.
@@ -278,42 +241,40 @@ impl Arena {
             max_push_velocity: settings.max_push_velocity_m_per_s,
             ..SolverSettings::default()
         };
-        let world = World::new(
-            built.bodies,
-            effects,
-            DT_S / settings.world_steps as f64,
-            V3::new(0.0, 0.0, -GRAVITY_M_PER_S2),
-            solver,
-        );
+        let mut world = World::builder(effects)
+            .dt(DT_S)
+            .gravity(V3::new(0.0, 0.0, -GRAVITY_M_PER_S2))
+            .settings(solver)
+            .build();
+        let built = build::build(table, &settings, &mut world)?;
+        let ball_index = world
+            .body_handles()
+            .position(|h| h == built.ball)
+            .unwrap_or(0);
         let drives = table
             .rods
             .iter()
             .map(|r| RodDrive {
                 half_travel_m: r.half_travel_m(),
                 bumper_m: settings.bumper_m,
-                max_slide_speed_m_per_s: settings.max_slide_speed_m_per_s,
-                max_spin_rad_per_s: settings.max_spin_rad_per_s,
             })
             .collect();
         let n = table.rods.len();
-        let mut arena = Arena {
+        Ok(Arena {
             table: table.clone(),
             settings,
             world,
             roles: built.roles,
             rods: built.rods,
+            rod_bodies: built.rod_bodies,
             drives,
             ball: built.ball,
-            poses: vec![RodTarget::default(); n],
+            ball_index,
             targets: vec![RodTarget::default(); n],
-            rod_velocities: vec![[0.0; 2]; n],
+            motor_targets: vec![RodTarget::default(); n],
             steps: 0,
             physics_errors: 0,
-            pinned_steps: 0,
-            ball_velocity: V3::zeros(),
-        };
-        arena.pose_rod_bodies();
-        Ok(arena)
+        })
     }
 
     /// The table.
@@ -327,8 +288,8 @@ impl Arena {
     }
 
     /// Where the rods should go (table frame, per rod of the table; missing entries keep
-    /// their last target). The rods get there at the speed limits, the slide within the
-    /// travel (rubber bumpers at the ends).
+    /// their last target): the hand's servos pull them there within the hand's force and
+    /// torque, the slide within the travel (rubber bumpers at the ends).
     pub fn set_rod_targets(&mut self, targets: &[RodTarget]) {
         for (t, new) in self.targets.iter_mut().zip(targets) {
             *t = *new;
@@ -340,60 +301,39 @@ impl Arena {
         &self.targets
     }
 
-    /// One 1 ms step: rods towards their targets, the ball by the physics.
+    /// One 1 ms step: the servos' targets from the rods' targets, then one world step.
     pub fn step(&mut self) -> ArenaStep {
-        // Rod velocities that reach this step's poses.
-        let mut next = Vec::with_capacity(self.poses.len());
-        for i in 0..self.poses.len() {
-            let (pose, v) = self.drives[i].next(self.poses[i], self.targets[i], DT_S);
-            next.push(pose);
-            self.rod_velocities[i] = v;
-        }
-        // Bodies exactly at the current poses, moving with those velocities.
-        self.pose_rod_bodies();
-        let mut contacts = Vec::new();
-        let start = self.world.bodies.pos[self.ball];
-        let world_steps = self.world_steps_now();
-        self.world.dt = DT_S / world_steps as f64;
-        for _ in 0..world_steps {
-            let before = self.ball_body_state();
-            if self.world.step().is_err() {
-                self.physics_errors += 1;
-            }
-            let v = &mut self.world.bodies.vel[self.ball];
-            let speed = v.norm();
-            if speed > self.settings.max_ball_speed_m_per_s {
-                *v *= self.settings.max_ball_speed_m_per_s / speed;
-            }
-            contacts::merge(
-                &mut contacts,
-                contacts::ball_contacts(&self.world, &self.roles, self.ball, &before),
-            );
-        }
-        // A rod whose men ended the step deep in the ball, or that touched the ball
-        // while it ended the step deep in the cloth, a wall or another man, was stopped
-        // by it (a pinned ball cannot give way): it stays where it was, as a real rod
-        // stops on a pinned ball.
-        let ball_at = self.world.bodies.pos[self.ball];
-        let squeezed = contacts
-            .iter()
-            .any(|c| matches!(c.with, ContactWith::Man { .. }))
-            && -self.ball_clearance().0 > self.settings.pin_overlap_m;
-        for (i, pose) in next.iter_mut().enumerate() {
-            let touched = squeezed
-                && contacts
-                    .iter()
-                    .any(|c| c.with == ContactWith::Man { rod: i });
-            if touched || self.rod_overlap(i, &ball_at) > self.settings.pin_overlap_m {
-                *pose = self.poses[i];
-                self.rod_velocities[i] = [0.0; 2];
-                self.pinned_steps += 1;
+        for (i, tree) in self.rods.iter().enumerate() {
+            let last = self.motor_targets[i];
+            let t = self.drives[i].motor_target(self.targets[i], last);
+            let v = [
+                (t.angle_rad - last.angle_rad) / DT_S,
+                (t.slide_m - last.slide_m) / DT_S,
+            ];
+            self.motor_targets[i] = t;
+            if let Some(sys) = self.world.tree_mut(*tree) {
+                for (dof, q, qd) in [
+                    (rods::SPIN, t.angle_rad, v[0]),
+                    (rods::SLIDE, t.slide_m, v[1]),
+                ] {
+                    if let Some(m) = sys.motor_mut(dof) {
+                        m.target_position = Some(q);
+                        m.target_velocity = if qd.is_finite() { qd } else { 0.0 };
+                    }
+                }
             }
         }
-        self.ball_velocity = (self.world.bodies.pos[self.ball] - start) / DT_S;
-        self.poses = next;
-        // The bodies where the rods are now (held rods back where they were).
-        self.pose_rod_bodies();
+        let before = self.ball_body_state();
+        if self.world.step().is_err() {
+            self.physics_errors += 1;
+        }
+        let contacts = contacts::ball_contacts(
+            &self.world,
+            &self.roles,
+            self.ball_index,
+            &before,
+            self.table.ball.mass_kg,
+        );
         self.steps += 1;
         ArenaStep {
             ball: self.ball(),
@@ -401,12 +341,14 @@ impl Arena {
         }
     }
 
-    /// The ball's position and velocity, table frame. The velocity is the ball's
-    /// displacement over the last step divided by the step (what the ball did, m/s),
-    /// not the solver's body velocity, which in a squeeze (the ball pinned between a
-    /// moving man and the cloth) can be metres per second while the ball stays put.
+    /// The ball's position (m) and velocity (m/s), table frame.
     pub fn ball(&self) -> BallState {
-        let (p, v) = (self.world.bodies.pos[self.ball], self.ball_velocity);
+        let (p, v) = self
+            .world
+            .body(self.ball)
+            .map_or((V3::zeros(), V3::zeros()), |b| {
+                (b.position(), b.linear_velocity())
+            });
         BallState {
             position: [p.x, p.y, p.z],
             velocity: [v.x, v.y, v.z],
@@ -415,33 +357,78 @@ impl Arena {
 
     /// The ball's angular velocity (spin), rad/s, table frame.
     pub fn ball_spin(&self) -> [f64; 3] {
-        let w = self.world.bodies.omega[self.ball];
+        let w = self
+            .world
+            .body(self.ball)
+            .map_or(V3::zeros(), |b| b.angular_velocity());
         [w.x, w.y, w.z]
     }
 
-    /// Where the rods are in physics (the poses reached by the last step).
+    /// Where the rods are in physics: each rod's slide (m) and angle (rad).
     pub fn rod_poses(&self) -> Vec<RodTarget> {
-        self.poses.clone()
+        self.rods
+            .iter()
+            .map(|t| {
+                self.world
+                    .tree(*t)
+                    .map_or(RodTarget::default(), |s| RodTarget {
+                        slide_m: s.q()[rods::SLIDE],
+                        angle_rad: s.q()[rods::SPIN],
+                    })
+            })
+            .collect()
     }
 
-    /// Each rod's velocity over the last step: `[slide m/s, spin rad/s]`.
-    pub fn rod_velocities(&self) -> &[[f64; 2]] {
-        &self.rod_velocities
+    /// Each rod's velocity: `[slide m/s, spin rad/s]`.
+    pub fn rod_velocities(&self) -> Vec<[f64; 2]> {
+        self.rods
+            .iter()
+            .map(|t| {
+                self.world
+                    .tree(*t)
+                    .map_or([0.0; 2], |s| [s.qd()[rods::SLIDE], s.qd()[rods::SPIN]])
+            })
+            .collect()
+    }
+
+    /// The mean force (N) along rod `rod` and torque (N·m) about it that its hand's servos
+    /// and travel limits gave over the last step, `[slide, spin]`.
+    pub fn rod_drive_forces(&self, rod: usize) -> [f64; 2] {
+        self.rods
+            .get(rod)
+            .and_then(|t| self.world.tree(*t))
+            .map_or([0.0; 2], |s| {
+                [
+                    s.drive_force(rods::SLIDE, DT_S),
+                    s.drive_force(rods::SPIN, DT_S),
+                ]
+            })
+    }
+
+    /// The body of rod `rod`'s link (its bar and men), in [`Arena::world`].
+    pub fn rod_body(&self, rod: usize) -> Option<BodyHandle> {
+        self.rod_bodies.get(rod).copied()
+    }
+
+    /// The ball's body, in [`Arena::world`].
+    pub fn ball_body(&self) -> BodyHandle {
+        self.ball
     }
 
     /// Puts the ball at `position` (m) with `velocity` (m/s) and no spin.
     pub fn place_ball(&mut self, position: [f64; 3], velocity: [f64; 3]) {
-        let b = &mut self.world.bodies;
-        b.pos[self.ball] = V3::from(position);
-        b.vel[self.ball] = V3::from(velocity);
-        b.omega[self.ball] = V3::zeros();
-        b.awake[self.ball] = true;
-        self.ball_velocity = V3::from(velocity);
+        if let Some(mut b) = self.world.body_mut(self.ball) {
+            b.set_position(V3::from(position))
+                .set_linear_velocity(V3::from(velocity))
+                .set_angular_velocity(V3::zeros());
+        }
     }
 
     /// Puts the ball's spin (rad/s, table frame).
     pub fn set_ball_spin(&mut self, spin: [f64; 3]) {
-        self.world.bodies.omega[self.ball] = V3::from(spin);
+        if let Some(mut b) = self.world.body_mut(self.ball) {
+            b.set_angular_velocity(V3::from(spin));
+        }
     }
 
     /// Steps taken.
@@ -459,7 +446,8 @@ impl Arena {
         &self.world
     }
 
-    /// The role of every body of the world, by index.
+    /// The role of every body of the world, by storage index (as
+    /// [`World::body_handles`] lists them).
     pub fn roles(&self) -> &[BodyRole] {
         &self.roles
     }
@@ -468,14 +456,20 @@ impl Arena {
     /// rod, field, cover) and what that is: negative when the ball overlaps it. Computed
     /// from the shapes, independently of the engine's contacts (for tunnelling checks).
     pub fn ball_clearance(&self) -> (f64, BodyRole) {
-        let c = self.world.bodies.pos[self.ball];
-        contacts::clearance(&self.world, &self.roles, self.ball, &c)
+        let [x, y, z] = self.ball().position;
+        self.clearance_at([x, y, z])
     }
 
     /// The gap (m) a ball centred at `point` would have to the nearest solid, and what
     /// that is (the same as [`Arena::ball_clearance`] for another centre).
     pub fn clearance_at(&self, point: [f64; 3]) -> (f64, BodyRole) {
-        contacts::clearance(&self.world, &self.roles, self.ball, &V3::from(point))
+        contacts::clearance(
+            &self.world,
+            &self.roles,
+            self.ball_index,
+            self.table.ball.radius_m(),
+            &V3::from(point),
+        )
     }
 
     /// Whether the ball's centre is inside the table: over the field between the walls
@@ -498,82 +492,12 @@ impl Arena {
         z >= -tol && z <= top + tol && (on_field || in_goal)
     }
 
-    /// World steps for this 1 ms step: enough that neither the ball nor the feet of
-    /// the rods near it move more than [`ArenaSettings::world_step_travel_m`] per world
-    /// step, at most [`ArenaSettings::world_steps`].
-    fn world_steps_now(&self) -> usize {
-        let b = &self.world.bodies;
-        let ball = b.pos[self.ball];
-        let mut speed = b.vel[self.ball].norm();
-        for (i, rod) in self.rods.iter().enumerate() {
-            let reach = self.table.character_of(i).foot_reach_m;
-            if (ball.x - rod.x_m).abs() < reach + 0.05 {
-                let [vs, w] = self.rod_velocities[i];
-                speed = speed.max(vs.abs() + w.abs() * reach);
-            }
-        }
-        let wanted = (speed * DT_S / self.settings.world_step_travel_m).ceil();
-        if wanted.is_finite() {
-            (wanted as usize).clamp(1, self.settings.world_steps)
-        } else {
-            self.settings.world_steps
-        }
-    }
-
-    /// How deep (m) a ball centred at `centre` is inside the men or the bar of rod
-    /// `rod` (0 when clear).
-    fn rod_overlap(&self, rod: usize, centre: &V3) -> f64 {
-        let bodies = &self.rods[rod];
-        let reach = self.table.character_of(rod).foot_reach_m + self.table.ball.radius_m() + 0.03;
-        if (centre.x - bodies.x_m).abs() > reach {
-            return 0.0;
-        }
-        let r = self.table.ball.radius_m();
-        std::iter::once(bodies.bar)
-            .chain(bodies.parts.iter().map(|p| p.body))
-            .filter_map(|b| contacts::signed_distance(&self.world, b, centre))
-            .map(|d| r - d)
-            .fold(0.0, f64::max)
-    }
-
-    /// Steps in which a rod was held back by a pinned ball (counted per rod).
-    pub fn pinned_steps(&self) -> u64 {
-        self.pinned_steps
-    }
-
-    /// Places every rod's bar and men exactly at the current poses, moving with the
-    /// rods' current velocities.
-    fn pose_rod_bodies(&mut self) {
-        let rod_h = self.table.field.rod_height_m;
-        let b = &mut self.world.bodies;
-        for (i, rod) in self.rods.iter().enumerate() {
-            let pose = self.poses[i];
-            let [vs, w] = self.rod_velocities[i];
-            let rot = build::rot_y(pose.angle_rad);
-            let omega = V3::new(0.0, w, 0.0);
-            let slide_v = V3::new(0.0, vs, 0.0);
-            debug_assert_eq!(b.kind[rod.bar], BodyKind::Kinematic);
-            b.pos[rod.bar] = V3::new(rod.x_m, pose.slide_m, rod_h);
-            b.rot[rod.bar] = rot * build::z_to_y_rotation();
-            b.vel[rod.bar] = slide_v;
-            b.omega[rod.bar] = omega;
-            for part in &rod.parts {
-                let pivot = V3::new(rod.x_m, part.offset_m + pose.slide_m, rod_h);
-                let arm = rot * part.local_centre;
-                b.pos[part.body] = pivot + arm;
-                b.rot[part.body] = rot * part.local_rot;
-                b.vel[part.body] = slide_v + omega.cross(&arm);
-                b.omega[part.body] = omega;
-            }
-        }
-    }
-
     fn ball_body_state(&self) -> contacts::BallBefore {
-        let b = &self.world.bodies;
+        let b = self.world.body(self.ball);
         contacts::BallBefore {
-            position: b.pos[self.ball],
-            velocity: b.vel[self.ball],
-            spin: b.omega[self.ball],
+            position: b.map_or(V3::zeros(), |b| b.position()),
+            velocity: b.map_or(V3::zeros(), |b| b.linear_velocity()),
+            spin: b.map_or(V3::zeros(), |b| b.angular_velocity()),
         }
     }
 }

@@ -39,7 +39,7 @@ impl CharacterType {
                 shoulder_height_m: 0.010,
                 foot_reach_m: 0.096,
                 foot_width_m: 0.018,
-                mass_kg: 0.040,
+                mass_kg: 0.080,
             },
             CharacterType::ShortWide => CharacterParams {
                 body_width_m: 0.034,
@@ -48,7 +48,7 @@ impl CharacterType {
                 shoulder_height_m: 0.005,
                 foot_reach_m: 0.088,
                 foot_width_m: 0.030,
-                mass_kg: 0.060,
+                mass_kg: 0.120,
             },
         }
     }

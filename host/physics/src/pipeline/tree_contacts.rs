@@ -57,7 +57,10 @@ struct Point {
     relative_velocity: f64,
     normal_impulse: f64,
     tangent_impulse: [f64; 2],
+    /// The largest normal impulse of one pass of the step (N·s).
     max_normal_impulse: f64,
+    /// Normal impulse of the step's finished substeps (N·s).
+    step_impulse: f64,
 }
 
 /// A contact with a tree link on at least one side.
@@ -80,6 +83,8 @@ pub(crate) struct TreeContact {
 pub(crate) struct TreeContacts {
     pub(crate) contacts: Vec<TreeContact>,
     rows: Vec<f64>,
+    /// Substeps warm-started so far in this step.
+    substeps: usize,
 }
 
 /// Per tree, the chart displacement `Σ h q̇` of the current step.
@@ -105,6 +110,7 @@ impl TreeContacts {
     pub(crate) fn clear(&mut self) {
         self.contacts.clear();
         self.rows.clear();
+        self.substeps = 0;
     }
 
     /// Builds the contact of manifold `mi`, whose bodies include a proxy.
@@ -176,6 +182,7 @@ impl TreeContacts {
                     [0.0; 2]
                 },
                 max_normal_impulse: 0.0,
+                step_impulse: 0.0,
                 ..*pc
             };
         }
@@ -280,8 +287,18 @@ impl TreeContacts {
         }
     }
 
-    /// Applies the accumulated impulses (warm start).
-    pub(crate) fn warm_start(&self, bodies: &mut BodySet, trees: &mut [ArticulatedSystem]) {
+    /// Applies the accumulated impulses (warm start). From the second substep of a step on,
+    /// the accumulated normal impulse is what the previous substep gave, and joins the
+    /// step's total.
+    pub(crate) fn warm_start(&mut self, bodies: &mut BodySet, trees: &mut [ArticulatedSystem]) {
+        if self.substeps > 0 {
+            for c in &mut self.contacts {
+                for pc in &mut c.points[..c.len] {
+                    pc.step_impulse += pc.normal_impulse;
+                }
+            }
+        }
+        self.substeps += 1;
         for c in &self.contacts {
             let dirs = [c.normal, c.tangents[0], c.tangents[1]];
             for pc in &c.points[..c.len] {
@@ -420,14 +437,20 @@ impl TreeContacts {
         self.contacts = contacts;
     }
 
-    /// Writes the accumulated impulses back into the manifolds (warm start of the next step).
+    /// Writes the accumulated impulses back into the manifolds (warm start of the next
+    /// step). A point's `max_normal_impulse` is the normal impulse it gave over the whole
+    /// step (every substep's, N·s): a link that keeps pushing through the substeps (a
+    /// driven rod kicking the ball) gives its impact in parts, and the step's sum is the
+    /// impact's strength.
     pub(crate) fn store(&self, manifolds: &mut [Manifold]) {
         for c in &self.contacts {
             let m = &mut manifolds[c.manifold];
             for (cp, pc) in m.points[..m.len].iter_mut().zip(&c.points) {
                 cp.normal_impulse = pc.normal_impulse;
                 cp.tangent_impulse = pc.tangent_impulse;
-                cp.max_normal_impulse = pc.max_normal_impulse;
+                cp.max_normal_impulse = pc
+                    .max_normal_impulse
+                    .max(pc.step_impulse + pc.normal_impulse);
             }
         }
     }
