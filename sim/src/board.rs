@@ -257,6 +257,13 @@ impl EmulatedBoard {
         &self.firmware
     }
 
+    /// Applies `settings` (axis maps, resolutions, sample rates) to the firmware
+    /// library, as a Feature report from the host does
+    /// ([`SensorBoard::apply_settings`]).
+    pub fn apply_settings(&mut self, settings: &foosball_protocol::BoardSettings) {
+        self.firmware.apply_settings(settings);
+    }
+
     /// The emulated mouse of `port`.
     pub fn mouse(&self, port: usize) -> Option<&Ps2Mouse> {
         self.ports.get(port).map(|p| &p.mouse)

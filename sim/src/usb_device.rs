@@ -13,16 +13,26 @@
 //! interval — the same layout as the RP2040 firmware's. The HID class answers the HID
 //! and report descriptors, GET_REPORT (the latest input report), SET_REPORT (an OUT
 //! report, STALLed when malformed), SET/GET_IDLE and SET/GET_PROTOCOL.
+//!
+//! Feature reports ([`foosball_protocol::FeatureReport`], 56 bytes, no report id) are
+//! answered as the firmware answers them: GET_REPORT (Feature) returns the report the
+//! last `Select` chose (device info after a reset), read from the sensor board;
+//! SET_REPORT (Feature) takes a `Select`, new settings ([`ControlOutcome::Settings`])
+//! or `EnterBootloader` ([`ControlOutcome::EnterBootloader`]); anything else STALLs.
 
 mod bus;
+mod feature;
 
 pub use bus::UrbBus;
+
+use feature::{FeatureCommand, FeatureSelection};
 
 use foosball_protocol::usb::{
     ENDPOINT_MAX_PACKET, HID_REPORT_DESCRIPTOR, MANUFACTURER, POLL_INTERVAL_MS, PRODUCT,
     PRODUCT_ID, VENDOR_ID,
 };
-use foosball_protocol::OutReport;
+use foosball_protocol::{BoardSettings, OutReport};
+use sensor_board::SensorBoard;
 use usb_device::class_prelude::{
     control, ControlIn, ControlOut, DescriptorWriter, EndpointIn, EndpointOut, InterfaceNumber,
     UsbBus, UsbBusAllocator, UsbClass,
@@ -56,6 +66,7 @@ const HID_SET_PROTOCOL: u8 = 0x0B;
 /// HID report types in GET/SET_REPORT's high byte of wValue.
 const REPORT_INPUT: u8 = 1;
 const REPORT_OUTPUT: u8 = 2;
+const REPORT_FEATURE: u8 = 3;
 /// Polls of the stack allowed per packet of a control transfer before giving up.
 const POLLS_PER_PACKET: usize = 4;
 
@@ -75,6 +86,12 @@ pub struct HidClass<'a, B: UsbBus> {
     input: Vec<u8>,
     /// An OUT report received by SET_REPORT, until taken.
     set_report: Option<Vec<u8>>,
+    /// The selected Feature report, encoded, for GET_REPORT (Feature).
+    feature: Vec<u8>,
+    /// What GET_REPORT (Feature) returns.
+    selection: FeatureSelection,
+    /// A Feature report received by SET_REPORT that the board acts on, until taken.
+    feature_command: Option<FeatureCommand>,
     /// HID idle rate (4 ms units).
     idle: u8,
     /// HID protocol (1: report protocol).
@@ -90,6 +107,9 @@ impl<'a, B: UsbBus> HidClass<'a, B> {
             ep_out: alloc.interrupt(ENDPOINT_MAX_PACKET, POLL_INTERVAL_MS),
             input: Vec::new(),
             set_report: None,
+            feature: Vec::new(),
+            selection: FeatureSelection::default(),
+            feature_command: None,
             idle: 0,
             protocol: 1,
         }
@@ -115,6 +135,8 @@ impl<B: UsbBus> UsbClass<B> for HidClass<'_, B> {
 
     fn reset(&mut self) {
         self.set_report = None;
+        self.selection = FeatureSelection::default();
+        self.feature_command = None;
         self.idle = 0;
         self.protocol = 1;
     }
@@ -140,6 +162,10 @@ impl<B: UsbBus> UsbClass<B> for HidClass<'_, B> {
             {
                 let input = self.input.clone();
                 xfer.accept_with(&input)
+            }
+            (control::RequestType::Class, HID_GET_REPORT) if value_hi == REPORT_FEATURE => {
+                let feature = self.feature.clone();
+                xfer.accept_with(&feature)
             }
             (control::RequestType::Class, HID_GET_IDLE) => xfer.accept_with(&[self.idle]),
             (control::RequestType::Class, HID_GET_PROTOCOL) => xfer.accept_with(&[self.protocol]),
@@ -167,6 +193,13 @@ impl<B: UsbBus> UsbClass<B> for HidClass<'_, B> {
                     xfer.reject()
                 }
             }
+            HID_SET_REPORT if value_hi == REPORT_FEATURE => match self.selection.set(xfer.data()) {
+                Ok(command) => {
+                    self.feature_command = command;
+                    xfer.accept()
+                }
+                Err(()) => xfer.reject(),
+            },
             HID_SET_IDLE => {
                 self.idle = value_hi;
                 xfer.accept()
@@ -190,6 +223,10 @@ pub enum ControlOutcome {
     Ack,
     /// Done: the host sent an OUT report by SET_REPORT (the bytes).
     OutReport(Vec<u8>),
+    /// Done: the host wrote these settings (Feature); the board applies them.
+    Settings(BoardSettings),
+    /// Done: the host asked for the bootloader (Feature); the device leaves the bus.
+    EnterBootloader,
     /// Request not supported, or the device did not finish it: STALL.
     Stall,
 }
@@ -252,16 +289,24 @@ impl<'a> EmulatedUsb<'a> {
     }
 
     /// Plays one control transfer to the stack: `setup`, then `data_out` for a
-    /// host-to-device request; `input_report` is the latest IN report (GET_REPORT).
+    /// host-to-device request; `input_report` is the latest IN report (GET_REPORT);
+    /// Feature reports are read from `board`, `uptime_us` µs after its power-up.
     pub fn control(
         &mut self,
         setup: [u8; 8],
         data_out: &[u8],
         input_report: &[u8],
+        board: &SensorBoard,
+        uptime_us: u64,
     ) -> ControlOutcome {
         self.hid.input.clear();
         self.hid.input.extend_from_slice(input_report);
         self.hid.set_report = None;
+        self.hid.feature_command = None;
+        self.hid.feature.clear();
+        self.hid
+            .feature
+            .extend_from_slice(&self.hid.selection.report(board, uptime_us).to_bytes());
         let length = usize::from(u16::from_le_bytes([setup[6], setup[7]]));
         self.device.bus().setup(setup);
         self.poll();
@@ -270,9 +315,19 @@ impl<'a> EmulatedUsb<'a> {
         } else {
             self.control_out(data_out, length)
         };
-        match (outcome, self.hid.set_report.take()) {
-            (ControlOutcome::Ack, Some(report)) => ControlOutcome::OutReport(report),
-            (outcome, _) => outcome,
+        match (
+            outcome,
+            self.hid.set_report.take(),
+            self.hid.feature_command.take(),
+        ) {
+            (ControlOutcome::Ack, Some(report), _) => ControlOutcome::OutReport(report),
+            (ControlOutcome::Ack, None, Some(FeatureCommand::Settings(settings))) => {
+                ControlOutcome::Settings(settings)
+            }
+            (ControlOutcome::Ack, None, Some(FeatureCommand::EnterBootloader)) => {
+                ControlOutcome::EnterBootloader
+            }
+            (outcome, _, _) => outcome,
         }
     }
 
@@ -377,6 +432,7 @@ impl<'a> EmulatedUsb<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sensor_board::BoardConfig as FirmwareConfig;
 
     fn setup(request_type: u8, request: u8, value: u16, index: u16, length: u16) -> [u8; 8] {
         let [v0, v1] = value.to_le_bytes();
@@ -396,21 +452,22 @@ mod tests {
     fn enumeration_through_the_stack() {
         let alloc = allocator();
         let mut usb = EmulatedUsb::new(&alloc);
+        let fw = SensorBoard::new(FirmwareConfig::default());
         let report = [2u8; 63];
-        let d = data(usb.control(setup(0x80, 6, 0x0100, 0, 8), &[], &report));
+        let d = data(usb.control(setup(0x80, 6, 0x0100, 0, 8), &[], &report, &fw, 0));
         assert_eq!(d.len(), 8);
         assert_eq!(d[7], 64, "EP0 max packet");
-        let d = data(usb.control(setup(0x80, 6, 0x0100, 0, 18), &[], &report));
+        let d = data(usb.control(setup(0x80, 6, 0x0100, 0, 18), &[], &report, &fw, 0));
         assert_eq!(u16::from_le_bytes([d[2], d[3]]), 0x0200, "USB 2.0");
         assert_eq!(u16::from_le_bytes([d[8], d[9]]), VENDOR_ID);
         assert_eq!(u16::from_le_bytes([d[10], d[11]]), PRODUCT_ID);
         assert_eq!(u16::from_le_bytes([d[12], d[13]]), BCD_DEVICE);
         assert_eq!(
-            usb.control(setup(0x00, 5, 7, 0, 0), &[], &report),
+            usb.control(setup(0x00, 5, 7, 0, 0), &[], &report, &fw, 0),
             ControlOutcome::Ack
         );
         assert_eq!(usb.address(), 7);
-        let c = data(usb.control(setup(0x80, 6, 0x0200, 0, 255), &[], &report));
+        let c = data(usb.control(setup(0x80, 6, 0x0200, 0, 255), &[], &report, &fw, 0));
         assert_eq!(usize::from(u16::from_le_bytes([c[2], c[3]])), c.len());
         // Walk the descriptors: configuration, interface, HID, two endpoints.
         let mut i = 0;
@@ -424,45 +481,51 @@ mod tests {
         assert_eq!((c[5], c[9 + 5]), (CONFIGURATION_VALUE, CLASS_HID));
         assert_eq!(c[9 + 9 + 9 + 2], 0x80 | EP_IN);
         assert_eq!(c[9 + 9 + 9 + 7 + 2], EP_OUT);
-        let product = data(usb.control(setup(0x80, 6, 0x0302, 0x0409, 255), &[], &report));
+        let product = data(usb.control(setup(0x80, 6, 0x0302, 0x0409, 255), &[], &report, &fw, 0));
         assert_eq!(usize::from(product[0]), product.len());
         assert_eq!(product.len(), 2 + 2 * PRODUCT.len());
         assert!(!usb.is_configured());
         assert_eq!(
-            usb.control(setup(0x00, 9, 1, 0, 0), &[], &report),
+            usb.control(setup(0x00, 9, 1, 0, 0), &[], &report, &fw, 0),
             ControlOutcome::Ack
         );
         assert!(usb.is_configured());
         assert_eq!(
-            data(usb.control(setup(0x81, 6, 0x2200, 0, 512), &[], &report)),
+            data(usb.control(setup(0x81, 6, 0x2200, 0, 512), &[], &report, &fw, 0)),
             HID_REPORT_DESCRIPTOR
         );
         assert_eq!(
-            data(usb.control(setup(0xA1, 1, 0x0100, 0, 64), &[], &report)),
+            data(usb.control(setup(0xA1, 1, 0x0100, 0, 64), &[], &report, &fw, 0)),
             report
         );
         let out = OutReport::default().to_bytes();
         assert_eq!(
-            usb.control(setup(0x21, 9, 0x0200, 0, out.len() as u16), &out, &report),
+            usb.control(
+                setup(0x21, 9, 0x0200, 0, out.len() as u16),
+                &out,
+                &report,
+                &fw,
+                0
+            ),
             ControlOutcome::OutReport(out.to_vec())
         );
         assert_eq!(
-            usb.control(setup(0x21, 9, 0x0200, 0, 3), &[1, 2, 3], &report),
+            usb.control(setup(0x21, 9, 0x0200, 0, 3), &[1, 2, 3], &report, &fw, 0),
             ControlOutcome::Stall,
             "a malformed SET_REPORT stalls"
         );
         assert_eq!(
-            usb.control(setup(0x80, 6, 0x0600, 0, 10), &[], &report),
+            usb.control(setup(0x80, 6, 0x0600, 0, 10), &[], &report, &fw, 0),
             ControlOutcome::Stall,
             "device qualifier: full speed only"
         );
         assert_eq!(
-            usb.control(setup(0x40, 0x77, 0, 0, 0), &[], &report),
+            usb.control(setup(0x40, 0x77, 0, 0, 0), &[], &report, &fw, 0),
             ControlOutcome::Stall
         );
         // After a stall the next transfer works.
         assert_eq!(
-            data(usb.control(setup(0x80, 8, 0, 0, 1), &[], &report)),
+            data(usb.control(setup(0x80, 8, 0, 0, 1), &[], &report, &fw, 0)),
             [1]
         );
         // Interrupt endpoints once configured.

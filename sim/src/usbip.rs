@@ -359,6 +359,9 @@ pub struct UsbIpServer {
     reports: VecDeque<[u8; IN_REPORT_V2_LEN]>,
     latest: [u8; IN_REPORT_V2_LEN],
     verbose: bool,
+    /// The host sent the board into its bootloader: the device has left the bus (an
+    /// empty device list, imports refused).
+    gone: bool,
 }
 
 impl UsbIpServer {
@@ -373,6 +376,7 @@ impl UsbIpServer {
             reports: VecDeque::new(),
             latest: [0; IN_REPORT_V2_LEN],
             verbose: false,
+            gone: false,
         })
     }
 
@@ -488,12 +492,20 @@ impl UsbIpServer {
     ) {
         match request {
             Request::DevList => {
+                let reply = if self.gone {
+                    // No exported device.
+                    let mut r = op_header(OP_REP_DEVLIST, 0);
+                    r.extend_from_slice(&0u32.to_be_bytes());
+                    r
+                } else {
+                    devlist_reply()
+                };
                 let conn = &mut self.conns[i];
-                conn.tx.extend_from_slice(&devlist_reply());
+                conn.tx.extend_from_slice(&reply);
                 conn.state = ConnState::Closing;
             }
             Request::Import(busid) => {
-                let ok = busid == BUS_ID && self.attached().is_none();
+                let ok = busid == BUS_ID && self.attached().is_none() && !self.gone;
                 let conn = &mut self.conns[i];
                 conn.tx.extend_from_slice(&import_reply(ok));
                 if ok {
@@ -503,7 +515,9 @@ impl UsbIpServer {
                     self.log(&format!("{} attached bus id {busid}", self.conns[i].peer));
                 } else {
                     conn.state = ConnState::Closing;
-                    let why = if busid == BUS_ID {
+                    let why = if busid == BUS_ID && self.gone {
+                        "the device left the bus (bootloader)".to_string()
+                    } else if busid == BUS_ID {
                         "already attached".to_string()
                     } else {
                         format!("no device with bus id {busid:?}")
@@ -534,7 +548,8 @@ impl UsbIpServer {
                 let reply = if iso {
                     ret_submit(seqnum, EPIPE, &[], 0)
                 } else if ep == 0 {
-                    match usb.control(setup, &data, &self.latest) {
+                    let uptime_us = board.now_us();
+                    match usb.control(setup, &data, &self.latest, board.firmware(), uptime_us) {
                         ControlOutcome::Data(bytes) => {
                             let n = bytes.len().min(length);
                             ret_submit(seqnum, 0, &bytes[..n], n)
@@ -548,6 +563,19 @@ impl UsbIpServer {
                                     ret_submit(seqnum, EPIPE, &[], 0)
                                 }
                             }
+                        }
+                        ControlOutcome::Settings(settings) => {
+                            board.apply_settings(&settings);
+                            ret_submit(seqnum, 0, &[], data.len())
+                        }
+                        ControlOutcome::EnterBootloader => {
+                            // The status stage completes, then the device drops off
+                            // the bus: its connection closes once this reply is sent.
+                            self.gone = true;
+                            self.conns[i].state = ConnState::Closing;
+                            self.conns[i].pending_in.clear();
+                            self.log("the host sent the board into its bootloader");
+                            ret_submit(seqnum, 0, &[], data.len())
                         }
                         ControlOutcome::Stall => ret_submit(seqnum, EPIPE, &[], 0),
                     }
