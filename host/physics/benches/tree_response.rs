@@ -3,12 +3,48 @@
 //! O(n) a row) against the joint-space mass matrix (composite rigid bodies, O(n²)) factorised
 //! by Cholesky (O(n³)) and solved (O(n²) a row), on chains of 2 … 100 links.
 //!
+//!
+//! `tree_step`: one step of a free-standing chain of 10, 100 and 200 links (gravity on, a
+//! swinging state) with the default linearly implicit update (`symplectic-euler`) against one
+//! with the explicit velocity products (`explicit-euler`: one ABA, the cost of the former
+//! semi-implicit Euler step).
+//!
 //!     cargo bench -p virtual-physics --bench tree_response
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use std::time::Duration;
 use virtual_physics::dynamics::{aba, cholesky_solve, mass_matrix, Workspace};
 use virtual_physics::model::builders::{chain, random_state};
+use virtual_physics::pipeline::articulated::ArticulatedSystem;
+use virtual_physics::pipeline::IntegratorKind;
+
+fn bench_step(c: &mut Criterion) {
+    let mut g = c.benchmark_group("tree_step");
+    g.warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1));
+    for n in [10, 100, 200] {
+        let desc = chain(n);
+        let (q, qd, _) = random_state(&desc.build::<f64>().expect("model"), 7);
+        for kind in [
+            IntegratorKind::ExplicitEuler,
+            IntegratorKind::SymplecticEuler,
+        ] {
+            let tree = desc.build::<f64>().expect("model");
+            let mut sys = ArticulatedSystem::new(tree, q.clone(), qd.clone());
+            sys.set_integrator(kind);
+            let start = (q.clone(), qd.clone());
+            g.bench_function(format!("{}/{n}", kind.name()), |b| {
+                b.iter(|| {
+                    sys.q_mut().copy_from_slice(&start.0);
+                    sys.qd_mut().copy_from_slice(&start.1);
+                    sys.step(black_box(1e-3 / 12.0)).expect("step");
+                    black_box(sys.qd()[0])
+                })
+            });
+        }
+    }
+    g.finish();
+}
 
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("tree_response");
@@ -51,5 +87,5 @@ fn bench(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench, bench_step);
 criterion_main!(benches);
