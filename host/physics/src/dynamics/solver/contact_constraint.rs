@@ -265,11 +265,6 @@ impl ContactConstraint {
         self.softness = s;
     }
 
-    /// The soft coefficients of the normal rows.
-    pub fn softness(&self) -> Softness {
-        self.softness
-    }
-
     #[inline]
     fn apply(&self, bodies: &mut BodySet, p: &V3, ia_ang: &V3, ib_ang: &V3, s: f64) {
         let (a, b) = (self.a, self.b);

@@ -82,7 +82,7 @@ impl ContactStiffness {
         if against_static {
             return self.static_hertz;
         }
-        if !(mass_ratio < UNEVEN_MASS_RATIO) {
+        if mass_ratio.is_nan() || mass_ratio >= UNEVEN_MASS_RATIO {
             return self.hertz; // also a NaN ratio
         }
         // Geometric interpolation in log(ratio): even_hertz at 1, hertz at UNEVEN_MASS_RATIO.
