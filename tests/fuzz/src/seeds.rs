@@ -8,8 +8,9 @@
 
 use board_link::socket_wire::Message;
 use foosball_protocol::{
-    HapticPulse, InReport, InReportV2, LedState, OutReport, PacketAge, PaddleMotion, PaddleStatus,
-    PaddleTiming, ReportTiming, PADDLES,
+    BoardSettings, DeviceInfo, FeatureKind, FeatureReport, HapticPulse, InReport, InReportV2,
+    LedState, OutReport, PacketAge, PaddleMotion, PaddleStatus, PaddleTiming, PortCounters,
+    PortDiagnostics, PortSettings, ReportTiming, ResetReason, FEATURE_REPORT_LEN, PADDLES,
 };
 use foosball_sim::motion::recording::{RecordingFile, Sample, RECORDING_VERSION};
 use foosball_sim::motion::RodPose;
@@ -33,6 +34,7 @@ pub fn seeds(target: &str) -> Vec<Seed> {
         "in-report" => in_reports(),
         "in-report-v2" => in_reports_v2(),
         "out-report" => out_reports(),
+        "feature-report" => feature_reports(),
         "ps2" => ps2(),
         "socket-frames" => socket_frames(),
         "scene" => scenes(),
@@ -144,6 +146,72 @@ fn out_reports() -> Vec<Seed> {
         seed("valid-pulses", good),
         seed("edge-led-4", bad_led),
         seed("edge-long", long),
+    ]
+}
+
+fn feature_reports() -> Vec<Seed> {
+    let info = FeatureReport::DeviceInfo(DeviceInfo {
+        firmware_version: [0, 1, 0],
+        git_hash: *b"0123456789ab",
+        reset_reason: ResetReason::WatchdogTimeout,
+        uptime_us: 123_456_789_012,
+        present_ports: 0b1011_0111,
+    });
+    let diagnostics = FeatureReport::PortDiagnostics(PortDiagnostics {
+        port: 7,
+        present: true,
+        device_id: Some(3),
+        counters: PortCounters {
+            frames: 100_000,
+            packets: 33_000,
+            parity_errors: 2,
+            resends: 2,
+            inits: 1,
+            line_faults: u32::MAX,
+            ..PortCounters::default()
+        },
+    });
+    let mut settings = BoardSettings::DEFAULT;
+    settings.ports[2] = PortSettings {
+        axial_is_y: true,
+        invert_axial: true,
+        invert_rotation: false,
+        resolution_code: 0,
+        sample_rate: 10,
+    };
+    let settings = FeatureReport::Settings(settings);
+    let select = FeatureReport::Select {
+        kind: FeatureKind::PortDiagnostics,
+        port: 5,
+    };
+    let mut wrong_version = select.to_bytes();
+    wrong_version[0] = 2;
+    let mut select_port_8 = select.to_bytes();
+    select_port_8[3] = 8;
+    let mut reserved = FeatureReport::EnterBootloader.to_bytes();
+    reserved[FEATURE_REPORT_LEN - 1] = 1;
+    let mut bad_magic = FeatureReport::EnterBootloader.to_bytes();
+    bad_magic[5] = b't';
+    let mut bad_rate = settings.to_bytes();
+    bad_rate[4] = 199;
+    let mut long = info.to_bytes().to_vec();
+    long.push(0);
+    vec![
+        seed("valid-device-info", info.to_bytes()),
+        seed("valid-port-diagnostics", diagnostics.to_bytes()),
+        seed("valid-settings", settings.to_bytes()),
+        seed("valid-select", select.to_bytes()),
+        seed(
+            "valid-bootloader",
+            FeatureReport::EnterBootloader.to_bytes(),
+        ),
+        seed("edge-version-2", wrong_version),
+        seed("edge-select-port-8", select_port_8),
+        seed("edge-reserved-byte", reserved),
+        seed("edge-bootloader-magic", bad_magic),
+        seed("edge-sample-rate-199", bad_rate),
+        seed("edge-long", long),
+        seed("edge-short", &info.to_bytes()[..FEATURE_REPORT_LEN - 1]),
     ]
 }
 

@@ -9,6 +9,7 @@
 //! | `in-report` | `InReport::decode` | encodes back to the same bytes |
 //! | `in-report-v2` | `decode_in_report` (either version), `InReportV2::decode` | encodes back to the same bytes with its version's encoder; both v2 decoders agree; packet ages read back in whole steps |
 //! | `out-report` | `OutReport::decode` | encodes back to the same bytes |
+//! | `feature-report` | `FeatureReport::decode`, `FeatureReport::decode_command` | encodes back to the same bytes; the two decoders agree but for the board-only kinds |
 //! | `ps2` | `Ps2Frame`/`HostFrame` decode, `SensorBoard` (8 × `MouseDriver`) fed wire frames, bytes, send outcomes, time, stuck lines, receiver stalls, report snapshots | a good frame re-encodes to its bits; every IN report decodes, with consecutive sequence numbers |
 //! | `socket-frames` | `FrameReader`, any split into reads; IN payloads into `ReportReceiver` | messages re-encode to the bytes consumed; errors are sticky |
 //! | `scene` | `SceneFile::from_json` + `build` | 100 steps: each `Ok` step leaves every body finite |
@@ -19,6 +20,7 @@
 //! | `motion-recording` | `Playback::from_json` | poses finite and within the script limits at 100 times |
 
 mod calibration;
+mod feature;
 mod finite;
 mod motion;
 mod protocol;
@@ -66,7 +68,7 @@ pub struct Target {
 }
 
 /// Every target, in the order the runner takes them.
-pub static TARGETS: [Target; 11] = [
+pub static TARGETS: [Target; 12] = [
     Target {
         name: "in-report",
         about: "USB IN report decoder (device → host)",
@@ -87,6 +89,13 @@ pub static TARGETS: [Target; 11] = [
         format: Format::Bytes,
         run: protocol::out_report,
         max_len: 64,
+    },
+    Target {
+        name: "feature-report",
+        about: "USB Feature report decoders (diagnostics, settings, select, bootloader)",
+        format: Format::Bytes,
+        run: feature::run,
+        max_len: 128,
     },
     Target {
         name: "ps2",
