@@ -23,7 +23,7 @@
 //! * [`scene`] — the JSON scene format, validation with located messages, built-in scenes.
 //! * [`geometry`] — shapes, grid broad phase, narrow phase with persistent manifolds,
 //!   box–box SAT with clipping, continuous collision by speculative margins.
-//! * [`dynamics::solver`] — soft-step contact and joint constraints (friction cone,
+//! * `dynamics::solver` (crate-internal) — soft-step contact and joint constraints (friction cone,
 //!   restitution, rolling resistance, warm starting).
 //! * [`pipeline`] — the world and its step, built from the declared effects, with counters;
 //!   five integrators selectable per scene; islands and sleeping.

@@ -25,7 +25,7 @@ fn no_broad_phase_without_contacts() {
     assert!(!w.has_broad_phase());
     for _ in 0..10 {
         w.step().unwrap();
-        let c = w.counters;
+        let c = w.counters();
         assert!(
             !c.ran(Stage::BroadPhase) && !c.ran(Stage::NarrowPhase) && !c.ran(Stage::ContactSolve)
         );
@@ -113,7 +113,7 @@ fn counters_count_pairs_contacts_and_iterations() {
     let s = towers(2, 1, 3);
     let mut w = s.build().unwrap();
     w.step().unwrap();
-    let c = w.counters;
+    let c = w.counters();
     // Each tower: ground–box and two box–box manifolds of 4 points.
     assert_eq!(c.manifolds, 6);
     assert_eq!(c.contacts, 24);
@@ -131,7 +131,7 @@ fn sleeping_towers_sleep_and_skip_work() {
     for _ in 0..120 {
         w.step().unwrap();
     }
-    let c = w.counters;
+    let c = w.counters();
     assert_eq!(c.awake_bodies, 0, "all towers should be asleep after 2 s");
     assert_eq!(c.pairs_tested, 0);
     assert!(!c.ran(Stage::ContactSolve));

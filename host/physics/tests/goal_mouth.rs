@@ -119,7 +119,7 @@ impl Rng {
 
 #[test]
 fn a_thousand_random_shots_are_stopped_only_by_what_they_touch() {
-    let mut rng = Rng(0x5eed_0f_90a1);
+    let mut rng = Rng(0x005e_ed0f_90a1);
     let (mut free_steps, mut near_misses, mut touches) = (0, 0, 0);
     let substeps = SolverSettings::default().substeps as f64;
     for shot in 0..1000 {

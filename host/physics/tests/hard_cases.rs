@@ -20,10 +20,13 @@ use virtual_physics::measure::accuracy::articulated::chain_model;
 use virtual_physics::measure::accuracy::free_body;
 use virtual_physics::model::description::ModelDescription;
 use virtual_physics::pipeline::articulated::ArticulatedSystem;
-use virtual_physics::pipeline::{Effect, Effects, IntegratorKind, SolverSettings, World};
+use virtual_physics::pipeline::{BodyHandle, Effect, Effects, IntegratorKind, World};
 use virtual_physics::scene::builtin::{ball, ground, towers, unit_cube};
 use virtual_physics::scene::{BodyKindDesc, MaterialDesc, SceneFile, ShapeDesc};
 use virtual_physics::Real;
+
+mod scene_order;
+use scene_order::*;
 
 fn full() -> bool {
     std::env::var("VPHYS_FULL_HARD_CASES").is_ok_and(|v| v == "1")
@@ -44,11 +47,13 @@ fn finite(v: &V3) -> bool {
 
 /// Panics on a NaN or infinite pose or velocity of any body.
 fn assert_finite(w: &World, case: &str) {
-    for i in 0..w.bodies.len() {
+    for i in 0..w.body_count() {
         assert!(
-            finite(&w.bodies.pos[i]) && finite(&w.bodies.vel[i]) && finite(&w.bodies.omega[i]),
+            finite(&body_at(w, i).position())
+                && finite(&body_at(w, i).linear_velocity())
+                && finite(&body_at(w, i).angular_velocity()),
             "{case}: body {i} is not finite at t = {}",
-            w.time
+            w.time()
         );
     }
 }
@@ -57,8 +62,8 @@ fn assert_finite(w: &World, case: &str) {
 fn displacement(w: &World, start: &[V3]) -> (f64, f64) {
     let (mut h, mut s): (f64, f64) = (0.0, 0.0);
     for (i, p0) in start.iter().enumerate() {
-        if w.bodies.kind[i] == BodyKind::Dynamic {
-            let d = w.bodies.pos[i] - p0;
+        if body_at(w, i).kind() == BodyKind::Dynamic {
+            let d = body_at(w, i).position() - p0;
             h = h.max((d.x * d.x + d.y * d.y).sqrt());
             s = s.max(-d.z);
         }
@@ -80,7 +85,7 @@ fn orthonormality_error(r: &Matrix3<f64>) -> f64 {
 fn case01_tower_of_40_boxes_stands() {
     let s = towers(1, 1, 40);
     let mut w = s.build().unwrap();
-    let start = w.bodies.pos.clone();
+    let start = positions(&w);
     let e0 = w.energy();
     for _ in 0..length(240, 1200) {
         w.step().unwrap();
@@ -117,7 +122,7 @@ fn case02_extreme_mass_ratio_stacks_hold() {
         s.bodies.push(low);
         s.bodies.push(high);
         let mut w = s.build().unwrap();
-        let start = w.bodies.pos.clone();
+        let start = positions(&w);
         let mut worst_pen: f64 = 0.0;
         for _ in 0..length(300, 1200) {
             w.step().unwrap();
@@ -130,7 +135,7 @@ fn case02_extreme_mass_ratio_stacks_hold() {
         assert!(sink < 0.03, "{tag}: sank {sink} m");
         assert!(worst_pen < 0.03, "{tag}: penetration {worst_pen}");
         assert!(
-            w.bodies.pos[2].z > w.bodies.pos[1].z + 0.9,
+            body_at(&w, 2).position().z > body_at(&w, 1).position().z + 0.9,
             "{tag}: the stack fell apart"
         );
     }
@@ -150,9 +155,9 @@ fn case02_extreme_mass_ratio_stacks_hold() {
 fn case03_fast_spin_about_the_intermediate_axis() {
     for kind in IntegratorKind::ALL {
         let mut w = free_body::world(kind, 1.0 / 60.0);
-        w.settings.substeps = 12;
-        w.bodies.omega[0] = V3::new(0.0, 200.0, 2.0);
-        let (e0, l0) = (w.energy(), w.bodies.angular_momentum());
+        w.settings_mut().substeps = 12;
+        body_at_mut(&mut w, 0).set_angular_velocity(V3::new(0.0, 200.0, 2.0));
+        let (e0, l0) = (w.energy(), w.angular_momentum());
         let explicit_gyro = matches!(
             kind,
             IntegratorKind::ExplicitEuler | IntegratorKind::SymplecticEuler
@@ -161,11 +166,11 @@ fn case03_fast_spin_about_the_intermediate_axis() {
         for _ in 0..length(120, 600) {
             w.step().unwrap();
             flipped |= free_body::body_omega(&w).y < 0.0;
-            if explicit_gyro && w.time > 0.5 {
+            if explicit_gyro && w.time() > 0.5 {
                 break;
             }
         }
-        let (e, l) = (w.energy(), w.bodies.angular_momentum());
+        let (e, l) = (w.energy(), w.angular_momentum());
         let de = (e - e0) / e0;
         let dl = (l - l0).norm() / l0.norm();
         match kind {
@@ -196,15 +201,12 @@ fn case03_fast_spin_about_the_intermediate_axis() {
 fn articulated_world(model: &ModelDescription, q: Vec<f64>, kind: IntegratorKind) -> World {
     let tree = model.build::<f64>().unwrap();
     let nv = tree.nv();
-    let mut w = World::new(
-        Default::default(),
-        Effects::of(&[Effect::Gravity, Effect::Articulated]),
-        1.0 / 60.0,
-        V3::new(0.0, 0.0, -9.81),
-        SolverSettings::default(),
-    );
-    w.set_integrator(kind);
-    w.add_articulated(ArticulatedSystem::new(tree, q, vec![0.0; nv]));
+    let mut w = World::builder(Effects::of(&[Effect::Gravity, Effect::Articulated]))
+        .dt(1.0 / 60.0)
+        .gravity(V3::new(0.0, 0.0, -9.81))
+        .integrator(kind)
+        .build();
+    w.insert_tree(ArticulatedSystem::new(tree, q, vec![0.0; nv]));
     w
 }
 
@@ -214,7 +216,7 @@ fn articulated_run(w: &mut World, steps: usize, scale: f64) -> f64 {
     for _ in 0..steps {
         w.step().unwrap();
     }
-    let a = &w.articulated[0];
+    let a = tree_at(w, 0);
     assert!(
         a.q().iter().chain(a.qd()).all(|x| x.is_finite()),
         "articulated state not finite"
@@ -268,7 +270,7 @@ fn case04_chain_of_200_links_swings() {
     let mut w = articulated_world(&model, q, IntegratorKind::default());
     let de = articulated_run(&mut w, length(30, 120), scale);
     assert!(de.abs() < 2e-2, "energy drift {de:e}");
-    let a = &w.articulated[0];
+    let a = tree_at(&w, 0);
     aba_f32_matches_f64(&model, a.q(), a.qd());
 }
 
@@ -302,7 +304,7 @@ fn case05_mass_ratio_one_to_ten_thousand() {
             5e-2
         };
         assert!(de.abs() < tol, "{kind} chain: energy drift {de:e}");
-        let a = &w.articulated[0];
+        let a = tree_at(&w, 0);
         aba_f32_matches_f64(&chain, a.q(), a.qd());
     }
     let tree = virtual_physics::model::builders::mass_ratio();
@@ -320,16 +322,20 @@ fn ball_into(speed: f64, part_kind: BodyKindDesc, part_vx: f64, dt: f64) -> (f64
     s.bodies[1].kind = part_kind;
     s.bodies[1].velocity = [part_vx, 0.0, 0.0];
     let mut w = s.build().unwrap();
-    let (b, p) = (w.body("ball").unwrap(), w.body("wall").unwrap());
+    let (b, p) = (w.body_named("ball").unwrap(), w.body_named("wall").unwrap());
     let mut worst = f64::NEG_INFINITY;
-    while w.time < 0.1 {
+    while w.time() < 0.1 {
         w.step().unwrap();
-        let gap = w.bodies.pos[b].x + 0.0175 - (w.bodies.pos[p].x - 0.0025);
+        let gap =
+            w.body(b).unwrap().position().x + 0.0175 - (w.body(p).unwrap().position().x - 0.0025);
         worst = worst.max(gap);
-        assert!(w.bodies.pos[b].x < w.bodies.pos[p].x, "tunnelled");
+        assert!(
+            w.body(b).unwrap().position().x < w.body(p).unwrap().position().x,
+            "tunnelled"
+        );
     }
     assert_finite(&w, "case 6");
-    (worst, w.bodies.vel[b].x)
+    (worst, w.body(b).unwrap().linear_velocity().x)
 }
 
 /// Case 6: the ball at 50 m/s into the 5 mm goal wall and into a 5 mm paddle moving at
@@ -357,20 +363,20 @@ fn case07_box_wedged_between_pressed_boxes() {
         s.bodies.push(unit_cube([x, 0.0, 0.5]));
     }
     let mut w = s.build().unwrap();
-    w.bodies.force[1] = V3::new(1000.0, 0.0, 0.0);
-    w.bodies.force[3] = V3::new(-1000.0, 0.0, 0.0);
-    let start = w.bodies.pos.clone();
+    body_at_mut(&mut w, 1).set_force(V3::new(1000.0, 0.0, 0.0));
+    body_at_mut(&mut w, 3).set_force(V3::new(-1000.0, 0.0, 0.0));
+    let start = positions(&w);
     for _ in 0..length(120, 1200) {
         w.step().unwrap();
     }
     assert_finite(&w, "case 7");
     let mid = 2;
-    let moved = (w.bodies.pos[mid] - start[mid]).norm();
+    let moved = (body_at(&w, mid).position() - start[mid]).norm();
     assert!(moved < 0.02, "middle box moved {moved} m");
     assert!(
-        w.bodies.vel[mid].norm() < 0.5,
+        body_at(&w, mid).linear_velocity().norm() < 0.5,
         "middle box at {} m/s",
-        w.bodies.vel[mid].norm()
+        body_at(&w, mid).linear_velocity().norm()
     );
     assert!(
         w.max_penetration() < 0.01,
@@ -459,7 +465,9 @@ fn case08_near_singular_configurations() {
     let q = vec![std::f64::consts::PI - 1e-9, 0.0, 0.0];
     for kind in [IntegratorKind::SymplecticEuler, IntegratorKind::Rkmk4] {
         let mut w = articulated_world(&top, q.clone(), kind);
-        w.articulated[0].qd_mut().copy_from_slice(&[2.0, 0.5, 3.0]);
+        tree_at_mut(&mut w, 0)
+            .qd_mut()
+            .copy_from_slice(&[2.0, 0.5, 3.0]);
         let de = articulated_run(&mut w, 60, 9.81 * 0.15);
         let tol = if kind == IntegratorKind::Rkmk4 {
             1e-6
@@ -548,9 +556,9 @@ fn foosball_scene() -> SceneFile {
 #[test]
 fn case09_foosball_scene_10000_steps() {
     let mut w = foosball_scene().build().unwrap();
-    let b = w.body("ball").unwrap();
-    let paddles: Vec<usize> = (0..4)
-        .map(|k| w.body(&format!("paddle{k}")).unwrap())
+    let b = w.body_named("ball").unwrap();
+    let paddles: Vec<BodyHandle> = (0..4)
+        .map(|k| w.body_named(&format!("paddle{k}")).unwrap())
         .collect();
     let mut top_speed: f64 = 0.0;
     let mut worst_pen: f64 = 0.0;
@@ -559,24 +567,33 @@ fn case09_foosball_scene_10000_steps() {
     for step in 0..10_000 {
         // Slide the rods back and forth (±5 cm about y = 0) at full speed.
         for &p in &paddles {
-            let y = w.bodies.pos[p].y;
-            if (y > 0.05 && w.bodies.vel[p].y > 0.0) || (y < -0.05 && w.bodies.vel[p].y < 0.0) {
-                w.bodies.vel[p].y = -w.bodies.vel[p].y;
+            let (y, v) = {
+                let paddle = w.body(p).unwrap();
+                (paddle.position().y, paddle.linear_velocity())
+            };
+            if (y > 0.05 && v.y > 0.0) || (y < -0.05 && v.y < 0.0) {
+                w.body_mut(p)
+                    .unwrap()
+                    .set_linear_velocity(V3::new(v.x, -v.y, v.z));
             }
         }
         // Kick the ball back into play now and then so the rods keep hitting it.
         if step % 600 == 0 {
-            w.bodies.vel[b] = V3::new(if step % 1200 == 0 { 4.0 } else { -4.0 }, 1.5, 0.0);
+            w.body_mut(b).unwrap().set_linear_velocity(V3::new(
+                if step % 1200 == 0 { 4.0 } else { -4.0 },
+                1.5,
+                0.0,
+            ));
         }
         w.step().unwrap();
-        let p = w.bodies.pos[b];
+        let p = w.body(b).unwrap().position();
         assert!(finite(&p), "step {step}: ball not finite");
         assert!(
             p.x.abs() < 0.6 && p.y.abs() < 0.35 && p.z > -0.0175 && p.z < 0.2,
             "step {step}: ball left the table at {p:?}"
         );
         lowest = lowest.min(p.z);
-        top_speed = top_speed.max(w.bodies.vel[b].norm());
+        top_speed = top_speed.max(w.body(b).unwrap().linear_velocity().norm());
         // Geometric overlap of the ball with the cloth and the walls (m).
         let overlap = [
             0.0175 - p.z,
@@ -592,7 +609,7 @@ fn case09_foosball_scene_10000_steps() {
     }
     assert_finite(&w, "case 9");
     assert!(top_speed < 30.0, "ball reached {top_speed} m/s");
-    let p = w.bodies.linear_momentum().norm();
+    let p = w.linear_momentum().norm();
     assert!(p < 0.024 * 30.0, "momentum {p} kg·m/s");
     assert!(lowest > -0.0175, "the ball passed through the cloth");
     assert!(
@@ -630,9 +647,9 @@ fn case10_tiny_and_huge_steps_on_the_same_scene() {
             s.solver.substeps = 1;
         }
         let mut w = s.build().unwrap();
-        let start = w.bodies.pos.clone();
+        let start = positions(&w);
         let e0 = w.energy();
-        while w.time < t_end {
+        while w.time() < t_end {
             w.step().unwrap();
             assert!(
                 w.energy() <= e0 + 1e-3,
@@ -666,10 +683,10 @@ fn case11_rotations_stay_orthonormal() {
         for k in 0..n {
             w.step().unwrap();
             if k % 997 == 0 {
-                worst = worst.max(orthonormality_error(&w.bodies.rot[0]));
+                worst = worst.max(orthonormality_error(&body_at(&w, 0).rotation()));
             }
         }
-        worst = worst.max(orthonormality_error(&w.bodies.rot[0]));
+        worst = worst.max(orthonormality_error(&body_at(&w, 0).rotation()));
         assert_finite(&w, "case 11");
         assert!(
             worst < 1e-12,
@@ -688,12 +705,12 @@ fn case12_resting_stack_does_not_creep() {
     for _ in 0..60 {
         w.step().unwrap();
     }
-    let settled = w.bodies.pos.clone();
+    let settled = positions(&w);
     let mut half = settled.clone();
     for k in 60..total {
         w.step().unwrap();
         if k + 1 == total / 2 {
-            half = w.bodies.pos.clone();
+            half = positions(&w);
         }
     }
     assert_finite(&w, "case 12");

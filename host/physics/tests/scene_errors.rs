@@ -252,9 +252,13 @@ fn the_readme_example_scene_loads_and_runs() {
     for _ in 0..120 {
         w.step().unwrap();
     }
-    let man = w.body("man").unwrap();
-    assert!(w.joints[0].gap(&w.bodies) < 2e-3);
-    assert!((w.bodies.omega[man].x - 5.0).abs() < 0.2);
-    let ball = w.body("ball").unwrap();
-    assert!(w.bodies.vel[ball].x < 1.0 && w.bodies.vel[ball].x > 0.0);
+    let man = w.body_named("man").unwrap();
+    let joint = w.joint_handles().next().unwrap();
+    assert!(w.joint(joint).unwrap().gap() < 2e-3);
+    assert!((w.body(man).unwrap().angular_velocity().x - 5.0).abs() < 0.2);
+    let ball = w.body_named("ball").unwrap();
+    assert!(
+        w.body(ball).unwrap().linear_velocity().x < 1.0
+            && w.body(ball).unwrap().linear_velocity().x > 0.0
+    );
 }

@@ -1,11 +1,14 @@
 //! Solver behaviour: friction, restitution threshold, rolling resistance, joints, free-body
 //! integration on the group and the gyroscopic term.
 
-use virtual_physics::dynamics::solver::FreeJoint;
 use virtual_physics::geometry::V3;
-use virtual_physics::pipeline::Effect;
+use virtual_physics::model::Revolute;
+use virtual_physics::pipeline::{Effect, JointBuilder};
 use virtual_physics::scene::builtin::{ball, ball_roll, ground, unit_cube};
 use virtual_physics::scene::{BodyDesc, BodyKindDesc, MaterialDesc, SceneFile, ShapeDesc};
+
+mod scene_order;
+use scene_order::*;
 
 fn base(effects: Vec<Effect>) -> SceneFile {
     let mut s = virtual_physics::scene::builtin::ball_roll();
@@ -18,16 +21,16 @@ fn base(effects: Vec<Effect>) -> SceneFile {
 fn ball_rolls_to_a_stop_on_cloth() {
     let s = ball_roll();
     let mut w = s.build().unwrap();
-    let b = w.body("ball").unwrap();
+    let b = w.body_named("ball").unwrap();
     for _ in 0..600 {
         w.step().unwrap();
     }
-    let v = w.bodies.vel[b].norm();
+    let v = w.body(b).unwrap().linear_velocity().norm();
     assert!(v < 1e-3, "ball still moving at {v} m/s after 10 s");
-    let x = w.bodies.pos[b].x;
+    let x = w.body(b).unwrap().position().x;
     // Deceleration ≈ (5/7) μr g: 1 m/s stops within about 0.3 m … 1 m.
     assert!(x > 0.1 && x < 2.0, "stopped at {x} m");
-    assert!((w.bodies.pos[b].z - 0.0175).abs() < 1e-3);
+    assert!((w.body(b).unwrap().position().z - 0.0175).abs() < 1e-3);
 
     // Without the effect the ball rolls on.
     let mut s = ball_roll();
@@ -36,7 +39,7 @@ fn ball_rolls_to_a_stop_on_cloth() {
     for _ in 0..600 {
         w.step().unwrap();
     }
-    assert!(w.bodies.vel[b].x > 0.9);
+    assert!(w.body(b).unwrap().linear_velocity().x > 0.9);
 }
 
 #[test]
@@ -57,11 +60,11 @@ fn restitution_bounces_above_threshold_only() {
     let mut bounced = false;
     for _ in 0..120 {
         w.step().unwrap();
-        if w.bodies.vel[1].z > 1.0 {
+        if body_at(&w, 1).linear_velocity().z > 1.0 {
             bounced = true;
         }
         if bounced {
-            peak_after = peak_after.max(w.bodies.pos[1].z);
+            peak_after = peak_after.max(body_at(&w, 1).position().z);
         }
     }
     // Impact at ~4.4 m/s, e = 0.9: rebound to ~0.81 m.
@@ -75,7 +78,7 @@ fn restitution_bounces_above_threshold_only() {
     let mut w = s2.build().unwrap();
     for _ in 0..30 {
         w.step().unwrap();
-        assert!(w.bodies.vel[1].z < 0.05);
+        assert!(body_at(&w, 1).linear_velocity().z < 0.05);
     }
 }
 
@@ -95,11 +98,11 @@ fn friction_holds_a_box_on_a_slope_below_the_angle_of_repose() {
         c.position = [0.0, 0.5 * n[1], 0.5 * n[2]];
         s.bodies.push(c);
         let mut w = s.build().unwrap();
-        let p0 = w.bodies.pos[1];
+        let p0 = body_at(&w, 1).position();
         for _ in 0..120 {
             w.step().unwrap();
         }
-        let moved = (w.bodies.pos[1] - p0).norm();
+        let moved = (body_at(&w, 1).position() - p0).norm();
         assert_eq!(moved < 0.01, sticks, "angle {angle}: moved {moved} m");
     }
 }
@@ -132,15 +135,19 @@ fn revolute_joint_to_a_kinematic_rod_keeps_its_anchor() {
     man.material = None;
     s.bodies.push(man);
     let mut w = s.build().unwrap();
-    w.effects.insert(Effect::Joints);
+    w.effects().insert(Effect::Joints);
     // Hinge across the rod (y): the man swings about y but must turn with the rod about x.
-    let j = FreeJoint::new(&w.bodies, 0, 1, V3::new(0.0, 0.0, 0.2), "revolute", V3::y()).unwrap();
-    w.add_joint(j);
+    let (rod, man) = (w.body_named("rod").unwrap(), w.body_named("man").unwrap());
+    let j = w
+        .insert_joint(
+            JointBuilder::new(&Revolute::new(V3::y()), rod, man).anchor(V3::new(0.0, 0.0, 0.2)),
+        )
+        .unwrap();
     let mut worst: f64 = 0.0;
     let mut first: f64 = 0.0;
     for k in 0..120 {
         w.step().unwrap();
-        let g = w.joints[0].gap(&w.bodies);
+        let g = w.joint(j).unwrap().gap();
         if k < 12 {
             // The rod starts at 10 rad/s with the man at rest: an impulsive start.
             first = first.max(g);
@@ -151,11 +158,8 @@ fn revolute_joint_to_a_kinematic_rod_keeps_its_anchor() {
     assert!(first < 0.01, "joint opened by {first} m while spinning up");
     assert!(worst < 1e-3, "joint opened by {worst} m");
     // The man turns with the rod.
-    assert!(
-        (w.bodies.omega[1].x - 10.0).abs() < 0.5,
-        "{:?}",
-        w.bodies.omega[1]
-    );
+    let omega = w.body(man).unwrap().angular_velocity();
+    assert!((omega.x - 10.0).abs() < 0.5, "{omega:?}");
 }
 
 #[test]
@@ -178,21 +182,21 @@ fn free_body_integrates_on_the_group_and_gyroscopic_only_when_declared() {
         s.bodies.push(b);
         s.dt = 1e-3;
         let mut w = s.build().unwrap();
-        let l0 = w.bodies.angular_momentum();
-        let w0 = w.bodies.omega[0];
+        let l0 = w.angular_momentum();
+        let w0 = body_at(&w, 0).angular_velocity();
         for _ in 0..2000 {
             w.step().unwrap();
         }
-        let l1 = w.bodies.angular_momentum();
-        let w1 = w.bodies.omega[0];
+        let l1 = w.angular_momentum();
+        let w1 = body_at(&w, 0).angular_velocity();
         // Translation is exact for a constant twist: x = v t (the body frame is the COM frame).
         assert!(
-            (w.bodies.pos[0].x - 2.0).abs() < 1e-6,
+            (body_at(&w, 0).position().x - 2.0).abs() < 1e-6,
             "x = {}",
-            w.bodies.pos[0].x
+            body_at(&w, 0).position().x
         );
         // Rotation stays orthonormal.
-        let r = w.bodies.rot[0];
+        let r = body_at(&w, 0).rotation();
         assert!((r.transpose() * r - nalgebra::Matrix3::identity()).norm() < 1e-9);
         if gyro {
             assert!((l1 - l0).norm() < 0.02 * l0.norm(), "L {l0:?} → {l1:?}");
@@ -220,11 +224,11 @@ fn kinematic_body_moves_with_its_velocity_and_pushes() {
     for _ in 0..120 {
         w.step().unwrap();
     }
-    assert!((w.bodies.pos[1].x - 0.8).abs() < 1e-9);
+    assert!((body_at(&w, 1).position().x - 0.8).abs() < 1e-9);
     assert!(
-        w.bodies.pos[2].x > 0.75,
+        body_at(&w, 2).position().x > 0.75,
         "pushed box at {}",
-        w.bodies.pos[2].x
+        body_at(&w, 2).position().x
     );
-    assert!(w.bodies.pos[2].x - w.bodies.pos[1].x > 0.99);
+    assert!(body_at(&w, 2).position().x - body_at(&w, 1).position().x > 0.99);
 }

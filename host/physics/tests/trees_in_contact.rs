@@ -375,7 +375,7 @@ fn an_arm_whose_motors_press_a_box_onto_the_ground_reaches_static_equilibrium() 
     // Static: over the last half second the tip and the box move less than the contacts'
     // allowed overlap (0.1 mm, the linear slop), as the soft contacts finish settling.
     let tip_of = |w: &World| {
-        let p = tree_at(&w, 0).link_poses()[2];
+        let p = tree_at(w, 0).link_poses()[2];
         p.transform_point(&Vec3::new(lengths[2], 0.0, 0.0))
     };
     let tip_before = tip_of(&w);

@@ -56,8 +56,14 @@ pub fn ball_contacts(
     ball_mass_kg: f64,
 ) -> Vec<Contact> {
     let mut out: Vec<Contact> = Vec::with_capacity(4);
-    for m in world.manifolds() {
-        let (a, b) = (m.a as usize, m.b as usize);
+    // Storage index of each body handle (the roles are by storage index).
+    let index: std::collections::HashMap<_, usize> = world
+        .body_handles()
+        .enumerate()
+        .map(|(i, h)| (h, i))
+        .collect();
+    for m in world.contacts() {
+        let (a, b) = (index[&m.a], index[&m.b]);
         let (other, ball_is_b) = if b == ball {
             (a, true)
         } else if a == ball {
@@ -65,11 +71,7 @@ pub fn ball_contacts(
         } else {
             continue;
         };
-        let impulse = m
-            .points()
-            .iter()
-            .map(|p| p.max_normal_impulse)
-            .fold(0.0, f64::max);
+        let impulse = m.max_normal_impulse();
         if impulse <= 0.0 {
             continue;
         }
@@ -80,11 +82,11 @@ pub fn ball_contacts(
             ContactWith::Man { .. } => impulse / ball_mass_kg,
             ContactWith::Field | ContactWith::Wall => {
                 let mut speed: f64 = 0.0;
-                for p in m.points() {
-                    let v = before.velocity + before.spin.cross(&(p.point - before.position));
+                for (point, _) in m.points() {
+                    let v = before.velocity + before.spin.cross(&(point - before.position));
                     // Normal from A to B; the ball approaches when it moves against it.
                     let along = if ball_is_b { v } else { -v };
-                    speed = speed.max(-m.normal.dot(&along));
+                    speed = speed.max(-m.normal().dot(&along));
                 }
                 speed
             }

@@ -23,64 +23,59 @@ pub enum BodyKind {
 
 /// Every body of a world, structure of arrays (index = body id).
 #[derive(Clone, Debug, Default)]
-pub struct BodySet {
+pub(crate) struct BodySet {
     /// Names (may be empty).
-    pub name: Vec<String>,
+    pub(crate) name: Vec<String>,
     /// Kind.
-    pub kind: Vec<BodyKind>,
+    pub(crate) kind: Vec<BodyKind>,
     /// Shape, body frame (a compound carries its parts' poses and materials).
-    pub shape: Vec<Shape>,
+    pub(crate) shape: Vec<Shape>,
     /// Material of a body with a primitive shape (a compound's parts have their own).
-    pub material: Vec<Material>,
+    pub(crate) material: Vec<Material>,
     /// Centre of mass, world (m).
-    pub pos: Vec<V3>,
+    pub(crate) pos: Vec<V3>,
     /// World from body rotation.
-    pub rot: Vec<M3>,
+    pub(crate) rot: Vec<M3>,
     /// Linear velocity of the centre of mass, world (m/s).
-    pub vel: Vec<V3>,
+    pub(crate) vel: Vec<V3>,
     /// Angular velocity, world (rad/s).
-    pub omega: Vec<V3>,
+    pub(crate) omega: Vec<V3>,
     /// Inverse mass (1/kg), 0 for kinematic and fixed bodies.
-    pub inv_mass: Vec<f64>,
+    pub(crate) inv_mass: Vec<f64>,
     /// Principal inertia, body axes (kg·m²).
-    pub inertia: Vec<V3>,
+    pub(crate) inertia: Vec<V3>,
     /// Inverse principal inertia (0 for kinematic and fixed bodies).
-    pub inv_inertia: Vec<V3>,
+    pub(crate) inv_inertia: Vec<V3>,
     /// Inverse inertia in world axes, `R diag(inv_inertia) Rᵀ`, refreshed each step.
-    pub inv_inertia_world: Vec<M3>,
+    pub(crate) inv_inertia_world: Vec<M3>,
     /// Whether the body is simulated this step (dynamic and not sleeping).
-    pub awake: Vec<bool>,
+    pub(crate) awake: Vec<bool>,
     /// Whether contacts move the body: dynamic bodies, and the proxies of tree links (whose
     /// contacts act on their tree).
-    pub responds: Vec<bool>,
+    pub(crate) responds: Vec<bool>,
     /// Time the body has been slow enough to sleep (s).
-    pub sleep_time: Vec<f64>,
+    pub(crate) sleep_time: Vec<f64>,
     /// World bounding box, grown by the contact margin (m).
-    pub aabb: Vec<Aabb>,
+    pub(crate) aabb: Vec<Aabb>,
     /// Position change during the current step (m, world), for the solver's separation update.
-    pub dp: Vec<V3>,
+    pub(crate) dp: Vec<V3>,
     /// Rotation change during the current step, linearised (rad, world).
-    pub dtheta: Vec<V3>,
+    pub(crate) dtheta: Vec<V3>,
     /// Applied external force (N, world), kept until changed.
-    pub force: Vec<V3>,
+    pub(crate) force: Vec<V3>,
     /// Applied external torque (N·m, world), kept until changed.
-    pub torque: Vec<V3>,
+    pub(crate) torque: Vec<V3>,
 }
 
 impl BodySet {
     /// Number of bodies.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.pos.len()
-    }
-
-    /// Whether there are no bodies.
-    pub fn is_empty(&self) -> bool {
-        self.pos.is_empty()
     }
 
     /// Adds a body with mass `mass` (ignored unless dynamic); returns its index.
     #[allow(clippy::too_many_arguments)]
-    pub fn push(
+    pub(crate) fn push(
         &mut self,
         name: String,
         kind: BodyKind,
@@ -148,7 +143,7 @@ impl BodySet {
     }
 
     /// What collision detection reads of the bodies.
-    pub fn collision_view(&self) -> CollisionBodies<'_> {
+    pub(crate) fn collision_view(&self) -> CollisionBodies<'_> {
         CollisionBodies {
             shape: &self.shape,
             rot: &self.rot,
@@ -160,7 +155,7 @@ impl BodySet {
     }
 
     /// The primitive shape of part `part` of body `i` (the body's shape unless a compound).
-    pub fn part_shape(&self, i: usize, part: u16) -> &Shape {
+    pub(crate) fn part_shape(&self, i: usize, part: u16) -> &Shape {
         match &self.shape[i] {
             Shape::Compound(c) => c
                 .parts()
@@ -171,7 +166,7 @@ impl BodySet {
     }
 
     /// The material of part `part` of body `i` (the body's material unless a compound).
-    pub fn part_material(&self, i: usize, part: u16) -> Material {
+    pub(crate) fn part_material(&self, i: usize, part: u16) -> Material {
         match &self.shape[i] {
             Shape::Compound(c) => c
                 .parts()
@@ -182,7 +177,7 @@ impl BodySet {
     }
 
     /// Mass (kg), `∞` for kinematic and fixed bodies.
-    pub fn mass(&self, i: usize) -> f64 {
+    pub(crate) fn mass(&self, i: usize) -> f64 {
         if self.inv_mass[i] > 0.0 {
             1.0 / self.inv_mass[i]
         } else {
@@ -191,7 +186,7 @@ impl BodySet {
     }
 
     /// Refreshes `inv_inertia_world` of the awake bodies.
-    pub fn update_world_inertia(&mut self) {
+    pub(crate) fn update_world_inertia(&mut self) {
         for i in 0..self.len() {
             if self.awake[i] {
                 let r = &self.rot[i];
@@ -204,7 +199,7 @@ impl BodySet {
     }
 
     /// Kinetic energy `½ m v² + ½ ωᵀ I ω` of the dynamic bodies (J).
-    pub fn kinetic_energy(&self) -> f64 {
+    pub(crate) fn kinetic_energy(&self) -> f64 {
         let mut e = 0.0;
         for i in 0..self.len() {
             if self.kind[i] == BodyKind::Dynamic {
@@ -217,7 +212,7 @@ impl BodySet {
     }
 
     /// Linear momentum of the dynamic bodies (kg·m/s, world).
-    pub fn linear_momentum(&self) -> V3 {
+    pub(crate) fn linear_momentum(&self) -> V3 {
         let mut p = V3::zeros();
         for i in 0..self.len() {
             if self.kind[i] == BodyKind::Dynamic {
@@ -228,7 +223,7 @@ impl BodySet {
     }
 
     /// Angular momentum of the dynamic bodies about the world origin (kg·m²/s, world).
-    pub fn angular_momentum(&self) -> V3 {
+    pub(crate) fn angular_momentum(&self) -> V3 {
         let mut l = V3::zeros();
         for i in 0..self.len() {
             if self.kind[i] == BodyKind::Dynamic {

@@ -4,8 +4,8 @@
 //! * [`aba`] — forward dynamics `q̈ = FD(q, q̇, τ)`: the recursive articulated-body algorithm of
 //!   Appendix A, generalised to trees and multi-DOF joints.
 //! * [`rnea`] — inverse dynamics `τ = ID(q, q̇, q̈)`, recursive Newton–Euler.
-//! * [`BodySet`] — the free rigid bodies of a world (structure of arrays).
-//! * [`solver`] — the soft-step contact and joint solver.
+//! * `BodySet` (crate-internal) — the free rigid bodies of a world (structure of arrays).
+//! * `solver` (crate-internal) — the soft-step contact and joint solver.
 //! * [`mass_matrix`] — the joint-space mass matrix `M(q)` (composite rigid bodies).
 //!
 //! All take a preallocated [`Workspace`] so that no call allocates. Gravity `g` (from the
@@ -19,12 +19,13 @@ mod error;
 mod linalg;
 pub mod rigid_body;
 mod rnea;
-pub mod solver;
+pub(crate) mod solver;
 mod workspace;
 
 pub use crate::geometry::Material;
 pub use aba::aba;
-pub use body_set::{BodyKind, BodySet};
+pub use body_set::BodyKind;
+pub(crate) use body_set::BodySet;
 pub use crba::mass_matrix;
 pub use error::DynamicsError;
 pub use linalg::{cholesky_solve, CholeskyError};

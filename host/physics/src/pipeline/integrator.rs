@@ -436,24 +436,6 @@ impl FreeIntegrator {
     }
 }
 
-/// Solves the implicit midpoint equation `Π₁ = Π₀ − h ω_m × Π_m` (`Π_m = (Π₀+Π₁)/2`,
-/// `ω_m = I⁻¹Π_m`) for `x = Π_m`: `G(x) = x − Π₀ + (h/2) ω × x = 0` with `ω = I⁻¹x`.
-/// The Jacobian is `J = I + (h/2)M`, `M δ = ω × δ − x × (I⁻¹δ)`; each iteration applies the
-/// first-order inverse `J⁻¹ ≈ I − (h/2)M` at the current iterate (no matrix is formed or
-/// inverted), so the error contracts by `~((h/2)|M|)²` per iteration, from a second-order
-/// predictor. Stops when an update is below [`MIDPOINT_TOLERANCE`]` · |Π₀|` (one iteration
-/// at 1 ms on the tumbling box, three at 1/30 s). Returns `(Π₁, ω_m)`.
-pub fn midpoint_momentum(p0: &V3, inv_i: &V3, h: f64) -> (V3, V3) {
-    let mut x = midpoint_predictor(p0, inv_i, h);
-    let tol2 = MIDPOINT_TOLERANCE * MIDPOINT_TOLERANCE * p0.norm_squared();
-    for _ in 0..MIDPOINT_MAX_ITERATIONS {
-        if midpoint_iteration(&mut x, p0, inv_i, h) <= tol2 {
-            break;
-        }
-    }
-    (x * 2.0 - p0, inv_i.component_mul(&x))
-}
-
 /// The second-order predictor of `Π_m`: `x = Π₀ − (h/2) f(x)` with `f(x) = ω(x) × x`, expanded
 /// once about `Π₀`: `Π₀ − (h/2) f₀ + (h/2)² M₀ f₀` (error `O(h³)`).
 #[inline]
@@ -465,7 +447,9 @@ fn midpoint_predictor(p0: &V3, inv_i: &V3, h: f64) -> V3 {
     p0 - f0 * hh + mf * (hh * hh)
 }
 
-/// One iteration of [`midpoint_momentum`] on `x`; returns the squared update.
+/// One Newton-like iteration on the implicit midpoint equation for `x = Π_m`:
+/// `G(x) = x − Π₀ + (h/2) ω × x = 0` with `ω = I⁻¹x`, applying the first-order inverse of
+/// its Jacobian `J = I + (h/2)M`, `M δ = ω × δ − x × (I⁻¹δ)`; returns the squared update.
 #[inline]
 fn midpoint_iteration(x: &mut V3, p0: &V3, inv_i: &V3, h: f64) -> f64 {
     let hh = 0.5 * h;

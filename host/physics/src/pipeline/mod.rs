@@ -2,9 +2,9 @@
 //!
 //! * [`effects`] — the effect set a scene declares.
 //! * [`counters`] — what the last step did (stages run, pairs tested, contacts, iterations).
-//! * [`integrator`] — the five free-body integrators (semi-implicit Euler with `T ← T·Exp(hV)` by
+//! * `integrator` — the five free-body integrators (semi-implicit Euler with `T ← T·Exp(hV)` by
 //!   default), selectable per scene.
-//! * [`islands`] — contact/joint islands and sleeping.
+//! * `islands` — contact/joint islands and sleeping.
 //! * [`articulated`] — articulated trees stepped by part 1's ABA.
 //! * [`world`] — the world and its step.
 //! * handles ([`BodyHandle`], [`JointHandle`], [`TreeHandle`], [`LinkHandle`]) — stable names
@@ -16,8 +16,8 @@ pub mod counters;
 mod drives;
 pub mod effects;
 mod handles;
-pub mod integrator;
-pub mod islands;
+mod integrator;
+mod islands;
 mod tree_contacts;
 pub mod world;
 mod world_builder;
@@ -27,7 +27,8 @@ pub use counters::{Stage, StepCounters};
 pub use drives::{DriveKind, Motor, Trajectory};
 pub use effects::{Effect, Effects};
 pub use handles::{BodyHandle, JointHandle, LinkHandle, TreeHandle};
-pub use integrator::{FreeForces, FreeIntegrator, IntegratorKind};
+pub use integrator::IntegratorKind;
+pub(crate) use integrator::{FreeForces, FreeIntegrator};
 pub use world::world_joints::{
     FreeJointKind, JointBuilder, JointError, JointKindError, JointMut, JointRef,
 };

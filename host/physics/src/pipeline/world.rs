@@ -10,7 +10,7 @@ use crate::dynamics::solver::{
     SolvePass,
 };
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
-use crate::geometry::{BroadPhase, NarrowPhase, Shape, V3};
+use crate::geometry::{BroadPhase, NarrowPhase, V3};
 
 #[path = "ccd.rs"]
 mod ccd;
@@ -61,7 +61,7 @@ pub struct SolverSettings {
     pub contact_damping_ratio: f64,
     /// Stiffness of a contact between two moving bodies of equal mass, as a multiple of
     /// `contact_hertz` (–), within the same cap; it falls to `contact_hertz` at a mass ratio of
-    /// 10 ([`ContactStiffness`]). 1.5 holds a tower of 40 equal boxes within 1 mm for 20 s at
+    /// 10 (`ContactStiffness`). 1.5 holds a tower of 40 equal boxes within 1 mm for 20 s at
     /// the default step (120 Hz lets it lean 12 cm), while a 1 g box under 1 kg keeps the
     /// 120 Hz it needs.
     pub even_mass_stiffening: f64,
@@ -84,7 +84,7 @@ pub struct SolverSettings {
     pub linear_damping: f64,
     /// Angular damping rate (1/s), with the `damping` effect.
     pub angular_damping: f64,
-    /// Solve the contacts four at a time ([`ContactBatches`]: graph colouring, one constraint
+    /// Solve the contacts four at a time (`ContactBatches`: graph colouring, one constraint
     /// per lane); false solves them one by one in manifold order (the same rows, another
     /// Gauss–Seidel order).
     pub batch_contacts: bool,
@@ -116,23 +116,23 @@ impl Default for SolverSettings {
 /// A simulated world.
 pub struct World {
     /// The rigid bodies.
-    pub bodies: BodySet,
+    pub(crate) bodies: BodySet,
     /// Declared effects.
-    pub effects: Effects,
+    pub(crate) effects: Effects,
     /// Step (s).
-    pub dt: f64,
+    pub(crate) dt: f64,
     /// Gravity (m/s², world); applied only with the `gravity` effect.
-    pub gravity: V3,
+    pub(crate) gravity: V3,
     /// Solver settings.
-    pub settings: SolverSettings,
+    pub(crate) settings: SolverSettings,
     /// Joints between free bodies.
-    pub joints: Vec<FreeJoint>,
+    pub(crate) joints: Vec<FreeJoint>,
     /// Articulated trees.
-    pub articulated: Vec<ArticulatedSystem>,
+    pub(crate) articulated: Vec<ArticulatedSystem>,
     /// Counters of the last step.
-    pub counters: StepCounters,
+    pub(crate) counters: StepCounters,
     /// Simulated time (s).
-    pub time: f64,
+    pub(crate) time: f64,
     /// The integrator of the free bodies (and, through [`World::set_integrator`], of the
     /// articulated trees).
     integrator: FreeIntegrator,
@@ -166,7 +166,7 @@ pub struct World {
 
 impl World {
     /// A world for `bodies` with the declared `effects`; the stages are built here.
-    pub fn new(
+    pub(crate) fn new(
         bodies: BodySet,
         effects: Effects,
         dt: f64,
@@ -227,7 +227,7 @@ impl World {
     /// Adds an articulated tree; it takes the world's integrator. Links with shapes
     /// ([`ArticulatedSystem::with_link_shape`]) get a proxy body each (a kinematic body named
     /// after the link, posed from the tree), through which they touch the other bodies.
-    pub fn add_articulated(&mut self, mut system: ArticulatedSystem) {
+    pub(crate) fn add_articulated(&mut self, mut system: ArticulatedSystem) {
         system.integrator = self.integrator.kind;
         self.tree_dq.push(vec![0.0; system.qd.len()]);
         self.link_poses.push(system.link_poses());
@@ -236,7 +236,7 @@ impl World {
     }
 
     /// Adds a joint (contacts between its two bodies are disabled).
-    pub fn add_joint(&mut self, j: FreeJoint) -> JointHandle {
+    pub(crate) fn add_joint(&mut self, j: FreeJoint) -> JointHandle {
         let (a, b) = (j.a.min(j.b), j.a.max(j.b));
         self.joint_pairs.push((j.a, j.b));
         self.excluded_pairs.push(((a as u64) << 32) | b as u64);
@@ -251,22 +251,8 @@ impl World {
     }
 
     /// The current contact manifolds (empty without contacts).
-    pub fn manifolds(&self) -> &[crate::geometry::Manifold] {
+    pub(crate) fn manifolds(&self) -> &[crate::geometry::Manifold] {
         self.narrow.as_ref().map_or(&[], |n| &n.manifolds)
-    }
-
-    /// Contacts of the last step whose strongest point impulse reached `min_impulse` (N·s):
-    /// `(body a, body b, impulse, normal from a to b)`. The match derives its "Kick" and
-    /// "Bounce" events from these.
-    pub fn impacts(&self, min_impulse: f64) -> impl Iterator<Item = (usize, usize, f64, V3)> + '_ {
-        self.manifolds().iter().filter_map(move |m| {
-            let j = m
-                .points()
-                .iter()
-                .map(|p| p.max_normal_impulse)
-                .fold(0.0, f64::max);
-            (j >= min_impulse && j > 0.0).then_some((m.a as usize, m.b as usize, j, m.normal))
-        })
     }
 
     /// Deepest overlap among the manifolds (m), 0 when none.
@@ -429,6 +415,8 @@ impl World {
         if joints_on {
             self.counters.mark(Stage::JointSolve);
             for j in &mut self.joints {
+                // Motors and limits integrate over the substep in force now.
+                j.set_substep(h);
                 j.prepare(&self.bodies);
             }
         }
@@ -719,13 +707,5 @@ impl World {
     /// Storage index of the first body named `name`.
     pub(crate) fn body_index(&self, name: &str) -> Option<usize> {
         self.bodies.name.iter().position(|n| n == name)
-    }
-
-    /// Radius of a sphere body (m), if it is one.
-    pub fn sphere_radius(&self, i: usize) -> Option<f64> {
-        match self.bodies.shape[i] {
-            Shape::Sphere { radius } => Some(radius),
-            _ => None,
-        }
     }
 }

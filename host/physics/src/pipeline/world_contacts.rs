@@ -72,7 +72,7 @@ impl World {
 
     /// The contacts of the last step whose strongest point impulse reached `min_impulse`
     /// (N·s). The match derives its "Kick" and "Bounce" events from these.
-    pub fn impacts_of(&self, min_impulse: f64) -> impl Iterator<Item = Contact<'_>> + '_ {
+    pub fn impacts(&self, min_impulse: f64) -> impl Iterator<Item = Contact<'_>> + '_ {
         self.contacts().filter(move |c| {
             let j = c.max_normal_impulse();
             j >= min_impulse && j > 0.0

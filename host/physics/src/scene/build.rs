@@ -7,8 +7,8 @@ use super::SceneError;
 use crate::algebra::{exp_so3, SE3};
 use crate::dynamics::{BodyKind, BodySet, Material};
 use crate::geometry::{Compound, CompoundError, CompoundMass, PartDesc, Shape, V3};
-use crate::pipeline::articulated::ArticulatedSystem;
 use crate::model::description::JointDescription;
+use crate::pipeline::articulated::ArticulatedSystem;
 use crate::pipeline::{
     BodyHandle, Effect, Effects, JointBuilder, Motor, SolverSettings, Trajectory, World,
 };

@@ -1550,12 +1550,7 @@ fn validate_joint(r: &mut Report, p: &str, jd: &super::format::JointDesc) {
                 ),
             );
         }
-        r.range(
-            &format!("{lp}.restitution"),
-            l.restitution,
-            (0.0, 1.0),
-            "",
-        );
+        r.range(&format!("{lp}.restitution"), l.restitution, (0.0, 1.0), "");
     }
     if jd.armature.len() > driven {
         r.add(

@@ -21,6 +21,6 @@ pub mod softness;
 pub use contact_batch::ContactBatches;
 pub use contact_constraint::{ContactConstraint, ContactSettings, SolvePass};
 pub use joint_constraint::{FreeJoint, MAX_DRIVEN_DOFS};
-pub use joint_dofs::{DofDrive, DofLimits, DofMotor, LIMIT_BOUNCE_SPEED};
+pub use joint_dofs::{DofLimits, DofMotor};
 pub use joint_kind::{FreeJointKind, JointKindError};
 pub use softness::{ContactStiffness, Softness};
