@@ -33,7 +33,7 @@
 //! `h q̈` of ABA. The joint's own bias `Ṡ q̇` (universal joints) stays explicit.
 //!
 //! Cost: a fixed number of 6×12 and 12×12 products per link — O(n), several times one ABA
-//! (`benches/tree_step.rs`).
+//! (the `tree_step` group of `benches/tree_response.rs`).
 
 use nalgebra::{Matrix6, SMatrix, SVector, Vector6};
 
