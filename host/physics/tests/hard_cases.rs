@@ -25,21 +25,10 @@ use virtual_physics::scene::builtin::{ball, ground, towers, unit_cube};
 use virtual_physics::scene::{BodyKindDesc, MaterialDesc, SceneFile, ShapeDesc};
 use virtual_physics::Real;
 
+mod run_length;
 mod scene_order;
+use run_length::{full, length};
 use scene_order::*;
-
-fn full() -> bool {
-    std::env::var("VPHYS_FULL_HARD_CASES").is_ok_and(|v| v == "1")
-}
-
-/// `reduced` in the default run, `full` with `VPHYS_FULL_HARD_CASES=1`.
-fn length(reduced: usize, full_len: usize) -> usize {
-    if full() {
-        full_len
-    } else {
-        reduced
-    }
-}
 
 fn finite(v: &V3) -> bool {
     v.iter().all(|x| x.is_finite())

@@ -20,21 +20,10 @@ use virtual_physics::geometry::Shape;
 use virtual_physics::pipeline::World;
 use virtual_physics::scene::builtin::{pyramid, towers, unit_cube};
 
+mod run_length;
 mod scene_order;
+use run_length::length;
 use scene_order::*;
-
-fn full() -> bool {
-    std::env::var("VPHYS_FULL_HARD_CASES").is_ok_and(|v| v == "1")
-}
-
-/// Steps at 1/60 s: `reduced` in the default run, `full_len` with `VPHYS_FULL_HARD_CASES=1`.
-fn length(reduced: usize, full_len: usize) -> usize {
-    if full() {
-        full_len
-    } else {
-        reduced
-    }
-}
 
 /// Panics on a NaN or infinite pose or velocity.
 fn assert_finite(w: &World, case: &str) {
