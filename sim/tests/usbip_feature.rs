@@ -7,14 +7,8 @@ use foosball_protocol::{
     BoardSettings, FeatureKind, FeatureReport, PortSettings, BOOTLOADER_MAGIC, FEATURE_REPORT_LEN,
     FEATURE_REPORT_VERSION,
 };
-use foosball_sim::board::{BoardConfig, EmulatedBoard};
-use foosball_sim::motion::Stationary;
-use foosball_sim::usbip::UsbIpServer;
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
-use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 /// USB/IP status of a stalled URB (`-EPIPE`).
@@ -24,59 +18,8 @@ const GET_FEATURE: [u8; 8] = [0xA1, 0x01, 0x00, 0x03, 0, 0, FEATURE_REPORT_LEN a
 /// SET_REPORT (Feature, no report id) of one Feature report.
 const SET_FEATURE: [u8; 8] = [0x21, 0x09, 0x00, 0x03, 0, 0, FEATURE_REPORT_LEN as u8, 0];
 
-struct Running {
-    addr: SocketAddr,
-    stop: Arc<AtomicBool>,
-    thread: Option<JoinHandle<EmulatedBoard>>,
-}
-
-impl Running {
-    fn start() -> Self {
-        let mut server = UsbIpServer::bind(SocketAddr::from(([127, 0, 0, 1], 0))).unwrap();
-        let addr = server.local_addr().unwrap();
-        let stop = Arc::new(AtomicBool::new(false));
-        let flag = stop.clone();
-        let mut config = BoardConfig::default();
-        config.mouse.self_test_us = 50_000;
-        let mut board = EmulatedBoard::new(config, Box::new(Stationary)).unwrap();
-        let thread = std::thread::spawn(move || {
-            server.run(&mut board, &flag).unwrap();
-            board
-        });
-        Self {
-            addr,
-            stop,
-            thread: Some(thread),
-        }
-    }
-
-    fn stop(mut self) -> EmulatedBoard {
-        self.stop.store(true, Ordering::Relaxed);
-        self.thread.take().unwrap().join().unwrap()
-    }
-}
-
-impl Drop for Running {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
-    }
-}
-
-fn connect(addr: SocketAddr) -> TcpStream {
-    let s = TcpStream::connect(addr).unwrap();
-    s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
-    s
-}
-
-fn read_n(s: &mut TcpStream, n: usize) -> Vec<u8> {
-    let mut buf = vec![0; n];
-    s.read_exact(&mut buf).unwrap();
-    buf
-}
-
-fn be32(b: &[u8], at: usize) -> u32 {
-    u32::from_be_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
-}
+mod usbip_loopback;
+use usbip_loopback::{be32, connect, read_n, Running};
 
 /// A USBIP_CMD_SUBMIT on endpoint 0.
 fn submit(seqnum: u32, dir_in: bool, length: u32, setup: [u8; 8], data: &[u8]) -> Vec<u8> {

@@ -4,73 +4,12 @@
 
 use foosball_protocol::usb::{HID_REPORT_DESCRIPTOR, PRODUCT_ID, VENDOR_ID};
 use foosball_protocol::{HapticPulse, InReportV2, OutReport, IN_REPORT_V2_LEN};
-use foosball_sim::board::{BoardConfig, EmulatedBoard};
-use foosball_sim::motion::Stationary;
-use foosball_sim::usbip::UsbIpServer;
 use std::io::{Read, Write};
-use std::net::{SocketAddr, TcpStream};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
-use std::thread::JoinHandle;
+use std::net::TcpStream;
 use std::time::Duration;
 
-struct Running {
-    addr: SocketAddr,
-    stop: Arc<AtomicBool>,
-    thread: Option<JoinHandle<EmulatedBoard>>,
-}
-
-impl Running {
-    fn start() -> Self {
-        let mut server = UsbIpServer::bind(SocketAddr::from(([127, 0, 0, 1], 0))).unwrap();
-        let addr = server.local_addr().unwrap();
-        let stop = Arc::new(AtomicBool::new(false));
-        let flag = stop.clone();
-        let mut config = BoardConfig::default();
-        config.mouse.self_test_us = 50_000;
-        let mut board = EmulatedBoard::new(config, Box::new(Stationary)).unwrap();
-        let thread = std::thread::spawn(move || {
-            server.run(&mut board, &flag).unwrap();
-            board
-        });
-        Self {
-            addr,
-            stop,
-            thread: Some(thread),
-        }
-    }
-
-    fn stop(mut self) -> EmulatedBoard {
-        self.stop.store(true, Ordering::Relaxed);
-        self.thread.take().unwrap().join().unwrap()
-    }
-}
-
-impl Drop for Running {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
-    }
-}
-
-fn connect(addr: SocketAddr) -> TcpStream {
-    let s = TcpStream::connect(addr).unwrap();
-    s.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
-    s
-}
-
-fn read_n(s: &mut TcpStream, n: usize) -> Vec<u8> {
-    let mut buf = vec![0; n];
-    s.read_exact(&mut buf).unwrap();
-    buf
-}
-
-fn be16(b: &[u8], at: usize) -> u16 {
-    u16::from_be_bytes([b[at], b[at + 1]])
-}
-
-fn be32(b: &[u8], at: usize) -> u32 {
-    u32::from_be_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]])
-}
+mod usbip_loopback;
+use usbip_loopback::{be16, be32, connect, read_n, Running};
 
 /// A USBIP_CMD_SUBMIT.
 fn submit(seqnum: u32, dir_in: bool, ep: u32, length: u32, setup: [u8; 8], data: &[u8]) -> Vec<u8> {
