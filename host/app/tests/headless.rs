@@ -5,7 +5,7 @@ use std::process::Output;
 
 mod common;
 
-use common::run;
+use common::{run, spinning_home_script};
 
 fn lines(out: &Output) -> Vec<serde_json::Value> {
     String::from_utf8(out.stdout.clone())
@@ -56,18 +56,8 @@ fn computer_against_computer_prints_events_and_ends_with_the_score() {
 #[test]
 fn a_scripted_board_plays_the_home_team() {
     let dir = tempfile::tempdir().unwrap();
-    let script = dir.path().join("spin.json");
-    // Every Home rod spins on and off for the whole match (counting starts after 1 s).
-    let tracks: Vec<String> = [0, 1, 3, 5]
-        .iter()
-        .map(|port| {
-            format!(
-                r#"{{"rod":{port},"segments":[{{"hold":{{"duration_s":1.0}}}},
-                {{"velocity":{{"duration_s":600,"angle_rad_per_s":-12.0}}}}]}}"#
-            )
-        })
-        .collect();
-    std::fs::write(&script, format!(r#"{{"rods":[{}]}}"#, tracks.join(","))).unwrap();
+    // Every Home rod spins for the whole match (counting starts after 1 s).
+    let script = spinning_home_script(dir.path());
     let out = run(&[
         "play",
         "--headless",

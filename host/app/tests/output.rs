@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::run;
+use common::{run, spinning_home_script};
 use std::process::Command;
 
 #[test]
@@ -159,17 +159,7 @@ fn replay_reproduces_the_recorded_match_events() {
     let rec = dir.path().join("match.json");
     // Home played through the emulated board by a script (every Home rod spinning),
     // so the recorded input decides the match.
-    let script = dir.path().join("spin.json");
-    let tracks: Vec<String> = [0, 1, 3, 5]
-        .iter()
-        .map(|port| {
-            format!(
-                r#"{{"rod":{port},"segments":[{{"hold":{{"duration_s":1.0}}}},
-                {{"velocity":{{"duration_s":600,"angle_rad_per_s":-12.0}}}}]}}"#
-            )
-        })
-        .collect();
-    std::fs::write(&script, format!(r#"{{"rods":[{}]}}"#, tracks.join(","))).unwrap();
+    let script = spinning_home_script(dir.path());
     let played = run(&[
         "play",
         "--headless",
