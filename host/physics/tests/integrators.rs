@@ -1,4 +1,5 @@
-//! The five integrators: selection (scene JSON and `World`), the default unchanged, the
+//! The five integrators: selection (scene JSON and `World`), the default (semi-implicit Euler
+//! with the implicit gyroscopic term), the
 //! tumbling-box target (energy-momentum: |energy drift| ≤ 1e-6 and 3 flips at 1 ms), and
 //! the measured order of each on the tumbling box and the double pendulum.
 
@@ -10,9 +11,9 @@ mod scene_order;
 use scene_order::*;
 
 #[test]
-fn scenes_select_the_integrator_by_name_and_default_to_semi_implicit_euler() {
+fn scenes_select_the_integrator_by_name_and_default_to_the_implicit_gyroscopic_step() {
     let s = builtin::ball_roll();
-    assert_eq!(s.integrator, IntegratorKind::SymplecticEuler);
+    assert_eq!(s.integrator, IntegratorKind::ImplicitGyroscopic);
     assert!(
         !s.to_json().contains("integrator"),
         "the default is not written"
@@ -59,14 +60,14 @@ fn energy_momentum_meets_the_tumbling_box_target() {
         t.momentum_drift
     );
     assert_eq!(t.flips, 3);
-    // Semi-implicit Euler (the default) drifts by ~1.75 % here, as MuJoCo's Euler does.
+    // Semi-implicit Euler drifts by ~1.75 % here, as MuJoCo's Euler does.
     let s = free_body::simulate(IntegratorKind::SymplecticEuler, 1e-3).unwrap();
     assert!(
         s.energy_drift > 1e-2,
         "semi-implicit drift {:e}",
         s.energy_drift
     );
-    // Catto's implicit step loses about as much.
+    // Catto's implicit step (the default) loses about as much.
     let c = free_body::simulate(IntegratorKind::ImplicitGyroscopic, 1e-3).unwrap();
     assert!(
         c.energy_drift < -1e-2,

@@ -41,7 +41,7 @@ pub struct SceneFile {
     /// The declared effects: only these stages run.
     pub effects: Vec<Effect>,
     /// The integrator of the free bodies and the articulated trees: `explicit-euler`,
-    /// `symplectic-euler` (default), `rkmk4`, `energy-momentum`, `implicit-gyroscopic`.
+    /// `symplectic-euler`, `rkmk4`, `energy-momentum`, `implicit-gyroscopic` (default).
     #[serde(default, skip_serializing_if = "is_default_integrator")]
     pub integrator: IntegratorKind,
     /// Solver settings.
