@@ -38,6 +38,7 @@ mod world_state;
 mod world_contacts;
 pub use world_contacts::Contact;
 
+use super::drives::DriveGroup;
 use super::tree_contacts::{Proxy, TreeContacts, TreeDisplacements};
 
 /// Solver and collision settings (SI units).
@@ -614,20 +615,25 @@ impl World {
         Ok(())
     }
 
-    /// The articulated trees that do not touch the world (no shapes, or no `contacts`), one
-    /// ABA per tree per substep of `h` with the selected integrator (with `articulated`).
+    /// The articulated trees that do not touch the world (no shapes, or no `contacts`) and
+    /// have no motors or limits: one step per tree per substep of `h` with the selected
+    /// integrator (with `articulated`), prescribed coordinates landing on their trajectories
+    /// at the substep's end.
     fn step_articulated(&mut self, h: f64) -> Result<(), DynamicsError> {
         if self.effects.has(Effect::Articulated) && !self.articulated.is_empty() {
             self.counters.mark(Stage::Articulated);
             let coupled = self.coupled_trees();
+            let n_sub = self.settings.substeps.max(1);
             for a in &mut self.articulated {
                 if coupled && link_proxies::in_solve(self.effects, a) {
                     continue; // stepped inside the constraint solve
                 }
-                for _ in 0..self.settings.substeps.max(1) {
-                    a.step(h)?;
+                a.prepare_drives();
+                for sub in 0..n_sub {
+                    a.step_until(h, self.time + (sub + 1) as f64 * h)?;
                     self.counters.articulated_solves += 1;
                 }
+                a.end_substep_drives();
             }
         }
         Ok(())
@@ -681,6 +687,9 @@ impl World {
                 c.solve(&mut self.bodies, inv_h, max_push, pass);
             }
         }
+        // The force-limited motors before the tree contacts, so that a servo pressing a
+        // link onto a body ends the pass with the contact's answer (`DriveGroup`).
+        self.solve_tree_drives(soft_static, pass, DriveGroup::Motors);
         if !self.tree_contacts.contacts.is_empty() {
             self.tree_contacts.solve(
                 &mut self.bodies,
@@ -693,12 +702,19 @@ impl World {
                 pass,
             );
         }
-        // Drives last: a prescribed coordinate ends each pass exactly on its trajectory.
+        // Limits and prescribed motion last: each pass ends on their bounds and trajectories.
+        self.solve_tree_drives(soft_static, pass, DriveGroup::Hard);
+    }
+
+    /// One pass over the drives of `group` of the trees stepped inside the solve.
+    fn solve_tree_drives(&mut self, soft: &Softness, pass: SolvePass, group: DriveGroup) {
         if self.coupled_trees() {
             let (h, t_end) = self.substep_clock;
+            let effects = self.effects;
             for a in self.articulated.iter_mut() {
-                if a.has_drives() {
-                    a.solve_drives(h, t_end, soft_static, pass);
+                // Trees that step on their own (prescribed motion only) are not in the solve.
+                if a.has_drives() && link_proxies::in_solve(effects, a) {
+                    a.solve_drives(h, t_end, soft, pass, group);
                 }
             }
         }
