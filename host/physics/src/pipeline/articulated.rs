@@ -77,6 +77,10 @@ pub struct ArticulatedSystem {
     pub(crate) drives: Vec<super::drives::Drive>,
     qdd: Vec<f64>,
     joints: Vec<(Chart, usize, usize)>,
+    /// Prescribed coordinate changes of the current implicit step, `(coordinate, Δq̇)`.
+    given: Vec<(usize, f64)>,
+    /// The impulses those changes took (N·s or N·m·s).
+    given_impulses: Vec<f64>,
     // Scratch of the multi-stage integrators (no allocation per step).
     q0: Vec<f64>,
     qd0: Vec<f64>,
@@ -123,6 +127,8 @@ impl ArticulatedSystem {
             drives: Vec::new(),
             qdd: vec![0.0; nv],
             joints,
+            given: Vec::new(),
+            given_impulses: Vec::new(),
             q0: vec![0.0; nq],
             qd0: z(),
             stage_qd: z(),
@@ -162,9 +168,52 @@ impl ArticulatedSystem {
         Ok(())
     }
 
+    /// Whether the tree steps on its own although it has drives: every drive is prescribed
+    /// motion of an additive coordinate and the integrator is the linearly implicit step,
+    /// which takes the trajectories as given coordinate changes (hybrid dynamics in the
+    /// implicit operator). Motors and limits are solved with the contacts instead.
+    pub(crate) fn steps_prescribed_alone(&self) -> bool {
+        matches!(
+            self.integrator,
+            IntegratorKind::SymplecticEuler | IntegratorKind::ImplicitGyroscopic
+        ) && self.drives.iter().all(|d| {
+            matches!(d.kind, super::drives::DriveKind::Prescribed(_))
+                && self.q_of_dof(d.dof).is_some()
+        })
+    }
+
+    /// One step of `h` seconds ending at world time `t_end` (s): [`step`](Self::step), with
+    /// the prescribed coordinates landing on their trajectories at `t_end` (for trees that
+    /// [step prescribed alone](Self::steps_prescribed_alone)).
+    pub(crate) fn step_until(&mut self, h: f64, t_end: f64) -> Result<(), DynamicsError> {
+        if self.drives.is_empty() {
+            return self.step(h);
+        }
+        let mut given = std::mem::take(&mut self.given);
+        given.clear();
+        for d in &self.drives {
+            if let (super::drives::DriveKind::Prescribed(traj), Some(q)) =
+                (&d.kind, self.q_of_dof(d.dof))
+            {
+                given.push((d.dof, (traj.at(t_end) - q) / h - self.qd[d.dof]));
+            }
+        }
+        self.given = given;
+        let r = self.implicit_velocity(h);
+        self.given.clear();
+        r?;
+        let impulses = std::mem::take(&mut self.given_impulses);
+        self.add_prescribed_impulses(&impulses);
+        self.given_impulses = impulses;
+        self.advance_positions(h);
+        Ok(())
+    }
+
     /// The linearly implicit velocity update (`pipeline/implicit_step.rs`), linearised at
     /// the predicted configuration `q ⊞ h q̇` (where `q ⊞ h q̇_new` lands to first order):
-    /// `(M + h D + h² K) Δq̇ = h (τ − bias)`, `q̇ += Δq̇`; `q` is left where it was.
+    /// `(M + h D + h² K) Δq̇ = h (τ − bias)`, `q̇ += Δq̇`; `q` is left where it was. The
+    /// coordinates in `self.given` change by the given amounts; what that took is left in
+    /// `self.given_impulses`.
     fn implicit_velocity(&mut self, h: f64) -> Result<(), DynamicsError> {
         self.q0.copy_from_slice(&self.q);
         for (t, v) in self.theta.iter_mut().zip(&self.qd) {
@@ -172,6 +221,7 @@ impl ArticulatedSystem {
         }
         self.chart_point_from_start();
         let mut dqd = std::mem::take(&mut self.qdd);
+        self.given_impulses.resize(self.given.len(), 0.0);
         let r = implicit_velocity_update(
             &self.tree,
             &mut self.iws,
@@ -179,6 +229,8 @@ impl ArticulatedSystem {
             &self.qd,
             &self.tau,
             h,
+            &self.given,
+            &mut self.given_impulses,
             &mut dqd,
         );
         self.q.copy_from_slice(&self.q0);

@@ -204,6 +204,18 @@ impl ArticulatedSystem {
         }
     }
 
+    /// Adds to the step's totals what the prescribed coordinates took in a step outside the
+    /// solve (`impulses` in the order of the prescribed drives, N·s or N·m·s).
+    pub(crate) fn add_prescribed_impulses(&mut self, impulses: &[f64]) {
+        let prescribed = self
+            .drives
+            .iter_mut()
+            .filter(|d| matches!(d.kind, DriveKind::Prescribed(_)));
+        for (d, j) in prescribed.zip(impulses) {
+            d.step_total += j;
+        }
+    }
+
     /// One Gauss–Seidel pass over the drives of `group`. `t_end` is the time at the end of
     /// the substep (s), `h` the substep (s); `soft` softens violated limits in the solve pass.
     pub(crate) fn solve_drives(

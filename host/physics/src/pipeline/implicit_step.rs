@@ -133,6 +133,13 @@ fn wrench_map(f: impl Fn(&dse3<f64>) -> dse3<f64>) -> M6 {
 /// Writes `Δq̇` of the linearly implicit velocity update (module docs) over `h` seconds for
 /// configuration `q`, velocity `qd` and joint forces `tau` (gravity from the model). O(n), no
 /// allocation. Errors on wrong lengths and on a singular joint block `D_i`.
+///
+/// `prescribed` holds coordinates whose change is given (hybrid dynamics: a kinematic root,
+/// a driven wheel), as `(velocity coordinate, Δq̇_k)`; their joint equations are replaced by
+/// `x_k = Δq̇_k` and the rest of the tree answers through the same operator. The impulse
+/// (N·s or N·m·s) each prescribed coordinate takes to move so is written to `impulses`, in
+/// the same order.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn implicit_velocity_update(
     model: &ArticulatedTree<f64>,
     ws: &mut ImplicitWorkspace,
@@ -140,6 +147,8 @@ pub(crate) fn implicit_velocity_update(
     qd: &[f64],
     tau: &[f64],
     h: f64,
+    prescribed: &[(usize, f64)],
+    impulses: &mut [f64],
     dqd: &mut [f64],
 ) -> Result<Implicitness, DynamicsError> {
     for level in [
@@ -147,12 +156,24 @@ pub(crate) fn implicit_velocity_update(
         Implicitness::Velocity,
         Implicitness::Explicit,
     ] {
+        if level == Implicitness::Full && !prescribed.is_empty() {
+            // Under prescribed motion the position Jacobian fails without a pivot falling
+            // below the floor (a 100-link chain under a shaken root: a singular operator at
+            // 1.7 s; `M + h D` holds it for 10 s — README, "Long chains").
+            continue;
+        }
         let (hv, hq) = match level {
             Implicitness::Full => (h, h),
             Implicitness::Velocity => (h, 0.0),
             Implicitness::Explicit => (0.0, 0.0),
         };
-        if factor_and_solve(model, ws, q, qd, tau, h, hv, hq, dqd)? {
+        let system = LinearSystem {
+            h,
+            hv,
+            hq,
+            prescribed,
+        };
+        if factor_and_solve(model, ws, q, qd, tau, &system, impulses, dqd)? {
             return Ok(level);
         }
     }
@@ -180,9 +201,26 @@ pub(crate) enum Implicitness {
 /// of following it, and the update drops the offending Jacobian.
 pub(crate) const PIVOT_FLOOR: f64 = 0.5;
 
-/// One factorisation with velocity factor `hv` and position factor `hq` (the operator
-/// `M + hv (D + hq K)`), and the solve for the right-hand side `h (τ − bias)`. `Ok(false)`
-/// when a pivot falls below [`PIVOT_FLOOR`].
+/// One level of the update: the operator `M + hv (D + hq K)` over a step of `h` seconds, with
+/// the prescribed coordinates' changes.
+struct LinearSystem<'a> {
+    h: f64,
+    hv: f64,
+    hq: f64,
+    prescribed: &'a [(usize, f64)],
+}
+
+impl LinearSystem<'_> {
+    /// The given `Δq̇` of velocity coordinate `k`, if it is prescribed.
+    fn prescribed(&self, k: usize) -> Option<f64> {
+        self.prescribed
+            .iter()
+            .find_map(|&(c, x)| (c == k).then_some(x))
+    }
+}
+
+/// One factorisation of `system`'s operator and the solve for the right-hand side
+/// `h (τ − bias)`. `Ok(false)` when a free joint pivot falls below [`PIVOT_FLOOR`].
 #[allow(clippy::too_many_arguments)]
 fn factor_and_solve(
     model: &ArticulatedTree<f64>,
@@ -190,11 +228,11 @@ fn factor_and_solve(
     q: &[f64],
     qd: &[f64],
     tau: &[f64],
-    h: f64,
-    hv: f64,
-    hq: f64,
+    system: &LinearSystem,
+    impulses: &mut [f64],
     dqd: &mut [f64],
 ) -> Result<bool, DynamicsError> {
+    let LinearSystem { h, hv, hq, .. } = *system;
     let nv = model.nv();
     if ws.nbodies != model.len() || ws.ndofs != nv {
         return Err(DynamicsError::Workspace {
@@ -207,6 +245,7 @@ fn factor_and_solve(
         ("qd", nv, qd.len()),
         ("tau", nv, tau.len()),
         ("dqd", nv, dqd.len()),
+        ("impulses", system.prescribed.len(), impulses.len()),
     ] {
         if expected != got {
             return Err(DynamicsError::Dimension {
@@ -284,24 +323,31 @@ fn factor_and_solve(
         let (p, s6, x) = (ws.p[i], ws.s[i], ws.x[i]);
         let u = p * ws.shat[i];
         let mut dm = s6.transpose() * u;
+        let mut coupling = s6.transpose() * p * x;
         let mut r = V6::zeros();
         let st_f0 = s6.transpose() * ws.f0[i];
         let st_pb = s6.transpose() * ws.pb[i];
         for k in 0..6 {
-            if k < d {
-                r[k] = h * (tau[vo + k] - st_f0[k]) - st_pb[k];
-            } else {
+            if k >= d {
                 dm[(k, k)] = 1.0;
+            } else if let Some(given) = system.prescribed(vo + k) {
+                // The joint equation gives way to `x_k = Δq̇_k`.
+                dm.set_row(k, &nalgebra::RowVector6::zeros());
+                dm[(k, k)] = 1.0;
+                coupling.set_row(k, &nalgebra::RowSVector::<f64, 12>::zeros());
+                r[k] = given;
+            } else {
+                r[k] = h * (tau[vo + k] - st_f0[k]) - st_pb[k];
+                if dm[(k, k)].is_nan() || dm[(k, k)] < PIVOT_FLOOR * ws.rigid[i][k] {
+                    return Ok(false);
+                }
             }
-        }
-        if (0..d).any(|k| dm[(k, k)].is_nan() || dm[(k, k)] < PIVOT_FLOOR * ws.rigid[i][k]) {
-            return Ok(false);
         }
         let dinv = dm
             .try_inverse()
             .filter(|m| m.iter().all(|x| x.is_finite()))
             .ok_or(DynamicsError::Singular { body: i })?;
-        let k = dinv * (s6.transpose() * p * x);
+        let k = dinv * coupling;
         let kappa = dinv * r;
         ws.k[i] = k;
         ws.kappa[i] = kappa;
@@ -334,6 +380,20 @@ fn factor_and_solve(
         let xi = ws.kappa[i] - ws.k[i] * zp;
         dqd[vo..vo + d].copy_from_slice(&xi.as_slice()[..d]);
         ws.z[i] = ws.x[i] * zp + ws.shat[i] * xi;
+    }
+    // What the prescribed coordinates took: the joint equation's residual,
+    // `S_kᵀ (P z + p) + h S_kᵀ F⁰ − h τ_k`, with the children's wrenches gathered above.
+    for (slot, &(c, _)) in impulses.iter_mut().zip(system.prescribed) {
+        *slot = 0.0;
+        if let Some((i, body)) = bodies
+            .iter()
+            .enumerate()
+            .find(|(_, b)| (b.v_offset..b.v_offset + b.nv()).contains(&c))
+        {
+            let col = ws.s[i].column(c - body.v_offset);
+            let wrench = ws.p[i] * ws.z[i] + ws.pb[i] + h * ws.f0[i];
+            *slot = col.dot(&wrench) - h * tau[c];
+        }
     }
     Ok(true)
 }
@@ -379,7 +439,9 @@ mod tests {
         let mut iws = ImplicitWorkspace::new(&model);
         let h = 0.03;
         let mut dqd = vec![0.0; nv];
-        let level = implicit_velocity_update(&model, &mut iws, &q, &qd, &tau, h, &mut dqd).unwrap();
+        let level =
+            implicit_velocity_update(&model, &mut iws, &q, &qd, &tau, h, &[], &mut [], &mut dqd)
+                .unwrap();
         assert_eq!(level, Implicitness::Full);
         let mut m = vec![0.0; nv * nv];
         mass_matrix(&model, &mut ws, &q, &mut m).unwrap();
@@ -438,10 +500,81 @@ mod tests {
         let mut qdd = vec![0.0; nv];
         aba(&model, &mut ws, &q, &qd, &tau, None, &mut qdd).unwrap();
         let h = 1e-9;
-        implicit_velocity_update(&model, &mut iws, &q, &qd, &tau, h, &mut dqd).unwrap();
+        implicit_velocity_update(&model, &mut iws, &q, &qd, &tau, h, &[], &mut [], &mut dqd)
+            .unwrap();
         let norm = qdd.iter().fold(1.0f64, |a, x| a.max(x.abs()));
         for (d, a) in dqd.iter().zip(&qdd) {
             assert!((d / h - a).abs() < 1e-6 * norm, "{} vs {a}", d / h);
+        }
+    }
+
+    /// With coordinate `c` prescribed, the update moves it by exactly the given amount, every
+    /// other row solves `(M + h ∂RNEA/∂q̇) Δq̇ = h (τ − RNEA(q, q̇, 0))` (the velocity level:
+    /// prescribed motion leaves the position Jacobian out), and the impulse reported for `c`
+    /// is what its own row lacks: `((M + h D) Δq̇)_c − h (τ_c − bias_c)`.
+    #[test]
+    fn a_prescribed_coordinate_moves_by_the_given_change_and_reports_its_impulse() {
+        let model = crate::model::builders::mass_ratio().build::<f64>().unwrap();
+        let (nq, nv) = (model.nq(), model.nv());
+        let q: Vec<f64> = (0..nq).map(|k| 0.3 * ((k as f64) * 1.7).sin()).collect();
+        let qd: Vec<f64> = (0..nv).map(|k| 2.0 * ((k as f64) * 0.9).cos()).collect();
+        let tau: Vec<f64> = (0..nv).map(|k| 0.1 * k as f64).collect();
+        let mut ws = Workspace::new(&model);
+        let mut iws = ImplicitWorkspace::new(&model);
+        let h = 0.03;
+        let c = 0;
+        let given = 0.7;
+        let mut dqd = vec![0.0; nv];
+        let mut impulse = [0.0];
+        let level = implicit_velocity_update(
+            &model,
+            &mut iws,
+            &q,
+            &qd,
+            &tau,
+            h,
+            &[(c, given)],
+            &mut impulse,
+            &mut dqd,
+        )
+        .unwrap();
+        assert_eq!(level, Implicitness::Velocity);
+        assert!((dqd[c] - given).abs() < 1e-12, "{} vs {given}", dqd[c]);
+        let mut m = vec![0.0; nv * nv];
+        mass_matrix(&model, &mut ws, &q, &mut m).unwrap();
+        let zero = vec![0.0; nv];
+        let mut bias = vec![0.0; nv];
+        rnea(&model, &mut ws, &q, &qd, &zero, None, &mut bias).unwrap();
+        let mut lhs: Vec<f64> = (0..nv)
+            .map(|r| (0..nv).map(|k| m[r * nv + k] * dqd[k]).sum())
+            .collect();
+        let eps = 1e-6;
+        let (mut plus, mut minus) = (vec![0.0; nv], vec![0.0; nv]);
+        for k in 0..nv {
+            let mut qp = qd.clone();
+            qp[k] += eps;
+            rnea(&model, &mut ws, &q, &qp, &zero, None, &mut plus).unwrap();
+            qp[k] -= 2.0 * eps;
+            rnea(&model, &mut ws, &q, &qp, &zero, None, &mut minus).unwrap();
+            for r in 0..nv {
+                lhs[r] += h * (plus[r] - minus[r]) / (2.0 * eps) * dqd[k];
+            }
+        }
+        let scale = bias.iter().chain(&tau).fold(1.0f64, |a, x| a.max(x.abs()));
+        for r in 0..nv {
+            let residual = lhs[r] - h * (tau[r] - bias[r]);
+            if r == c {
+                assert!(
+                    (residual - impulse[0]).abs() < 1e-7 * h * scale,
+                    "impulse {} vs residual {residual}",
+                    impulse[0]
+                );
+            } else {
+                assert!(
+                    residual.abs() < 1e-7 * h * scale,
+                    "row {r}: residual {residual}"
+                );
+            }
         }
     }
 }

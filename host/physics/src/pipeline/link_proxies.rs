@@ -9,10 +9,12 @@ use crate::pipeline::articulated::ArticulatedSystem;
 use crate::pipeline::{Effect, Effects};
 
 /// Whether tree `a` steps inside the constraint solve (semi-implicit Euler, substep by
-/// substep): it has drives, or shapes and the `contacts` effect. Other trees step on their
-/// own with the selected integrator.
+/// substep): it has shapes and the `contacts` effect, or motors or limits (or prescribed
+/// motion that its integrator cannot take as given). Other trees step on their own with the
+/// selected integrator, prescribed coordinates included.
 pub(super) fn in_solve(effects: Effects, a: &ArticulatedSystem) -> bool {
-    a.has_drives() || (a.has_shapes() && effects.has(Effect::Contacts))
+    (a.has_drives() && !a.steps_prescribed_alone())
+        || (a.has_shapes() && effects.has(Effect::Contacts))
 }
 
 impl World {

@@ -615,20 +615,25 @@ impl World {
         Ok(())
     }
 
-    /// The articulated trees that do not touch the world (no shapes, or no `contacts`), one
-    /// ABA per tree per substep of `h` with the selected integrator (with `articulated`).
+    /// The articulated trees that do not touch the world (no shapes, or no `contacts`) and
+    /// have no motors or limits: one step per tree per substep of `h` with the selected
+    /// integrator (with `articulated`), prescribed coordinates landing on their trajectories
+    /// at the substep's end.
     fn step_articulated(&mut self, h: f64) -> Result<(), DynamicsError> {
         if self.effects.has(Effect::Articulated) && !self.articulated.is_empty() {
             self.counters.mark(Stage::Articulated);
             let coupled = self.coupled_trees();
+            let n_sub = self.settings.substeps.max(1);
             for a in &mut self.articulated {
                 if coupled && link_proxies::in_solve(self.effects, a) {
                     continue; // stepped inside the constraint solve
                 }
-                for _ in 0..self.settings.substeps.max(1) {
-                    a.step(h)?;
+                a.prepare_drives();
+                for sub in 0..n_sub {
+                    a.step_until(h, self.time + (sub + 1) as f64 * h)?;
                     self.counters.articulated_solves += 1;
                 }
+                a.end_substep_drives();
             }
         }
         Ok(())
