@@ -7,7 +7,8 @@
 //! a colour the order does not matter. The rows, the soft step and the friction cone are those
 //! of [`ContactConstraint::solve`], lane by lane.
 //!
-//! Constraints with rolling resistance, and those no colour can take, stay scalar: the caller
+//! Constraints with rolling resistance or anchors that follow a round part's turn
+//! ([`ContactConstraint::follows`]), and those no colour can take, stay scalar: the caller
 //! solves [`ContactBatches::scalar`] with [`ContactConstraint::solve`] in the same pass.
 //!
 //! On x86-64 the same code also runs compiled for AVX2 when the processor has it (detected
@@ -301,7 +302,7 @@ impl ContactBatches {
         }
         let bit = |i: usize| (i / 64, 1u64 << (i % 64));
         for (ci, c) in constraints.iter().enumerate() {
-            if c.rolling_arm > 0.0 {
+            if c.rolling_arm > 0.0 || c.follows {
                 self.scalar.push(ci);
                 continue;
             }
