@@ -4,11 +4,14 @@
 //!
 //! ```text
 //! {"adapter", "backend", "device_type", "frames", "sizes": [{"width", "height",
-//!  "frame_ms_median", "frame_ms_p95", "fps"}, …]}
+//!  "frame_ms_median", "frame_ms_p95", "fps", "cpu_ms_per_frame"}, …]}
 //! ```
 //!
 //! A frame is building the scene, encoding it, submitting and waiting for the GPU to
-//! finish (no read back); `fps` is `1000 / frame_ms_median`. It runs on the first
+//! finish (no read back); `fps` is `1000 / frame_ms_median`. `cpu_ms_per_frame` is the
+//! CPU time of every thread of the process per timed frame (Linux; on a software
+//! adapter that is the whole GPU work, and, unlike the frame time, it hardly moves with
+//! what else the machine runs). It runs on the first
 //! adapter (a hardware GPU when there is one, else Mesa's software driver).
 
 use anyhow::{bail, Context, Result};
@@ -55,12 +58,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             r.render(&s, Screen::Match, width, height)?;
         }
         let mut ms = Vec::with_capacity(frames);
+        let cpu_before = process_cpu_s();
         for i in 0..frames {
             let s = demo_snapshot(&table, 1.0 + i as f64 / 60.0, [2, 1]);
             let t0 = Instant::now();
             r.render(&s, Screen::Match, width, height)?;
             ms.push(t0.elapsed().as_secs_f64() * 1e3);
         }
+        let cpu_ms = (process_cpu_s() - cpu_before) * 1e3 / frames as f64;
         ms.sort_by(f64::total_cmp);
         let median = ms[ms.len() / 2];
         let p95 = ms[((ms.len() as f64 * 0.95) as usize).min(ms.len() - 1)];
@@ -70,6 +75,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             "frame_ms_median": (median * 1e3).round() / 1e3,
             "frame_ms_p95": (p95 * 1e3).round() / 1e3,
             "fps": (1e4 / median).round() / 10.0,
+            "cpu_ms_per_frame": (cpu_ms * 10.0).round() / 10.0,
         }));
     }
     let a = r.adapter();
@@ -82,4 +88,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     });
     println!("{out}");
     Ok(())
+}
+
+/// CPU seconds used so far by all threads of this process (0 where `/proc` is missing).
+fn process_cpu_s() -> f64 {
+    crate::window::cpu::thread_cpu_seconds().values().sum()
 }

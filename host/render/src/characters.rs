@@ -164,7 +164,7 @@ pub(crate) fn draw_character(scene: &mut Scene, look: &CharacterLook, team: Team
             p.emissive * at.brightness,
         );
         if p.sphere {
-            scene.spheres.push(inst);
+            scene.small_spheres.push(inst);
         } else {
             scene.boxes.push(inst);
         }

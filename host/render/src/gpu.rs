@@ -10,6 +10,15 @@ use wgpu::util::DeviceExt;
 /// The colour format of offscreen pictures (a window uses its surface's format).
 pub(crate) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The nebula's texture format: sRGB storage keeps the dark gradients free of banding.
+const NEBULA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// The nebula is drawn at `1 / NEBULA_DOWNSCALE` of the frame's width and height and
+/// filtered up (`fs_nebula` in `scene.wgsl`).
+const NEBULA_DOWNSCALE: u32 = 4;
+/// Sphere meshes, (rings, segments): the ball's, and the small parts' (helmets, pads;
+/// a few pixels across, where triangle setup is the cost on a software rasteriser).
+const BALL_SPHERE: (u32, u32) = (14, 24);
+const SMALL_SPHERE: (u32, u32) = (8, 14);
 
 /// Largest offscreen image side, pixels.
 pub const MAX_SIDE: u32 = 8192;
@@ -23,6 +32,27 @@ struct Globals {
     eye: [f32; 4],
     light_dir: [f32; 4],
     screen: [f32; 4],
+    star_cols: [f32; 4],
+    star_rows: [f32; 4],
+}
+
+/// The star layers' cell grids over a `width × height` frame (`vs_star` in
+/// `scene.wgsl`): per layer the columns and rows of cells drawn, and the instances in
+/// all. The sky is 720 units high; layer `k` has cells of `46 − 14k` units drifting
+/// left, so the columns span the width plus the cell entering, and one cell beyond every
+/// edge (a star's glow reaches a few units past its cell).
+pub(crate) fn star_grid(width: u32, height: u32) -> ([f32; 3], [f32; 3], u32) {
+    let w_units = 720.0 * width as f32 / height.max(1) as f32;
+    let mut cols = [0.0; 3];
+    let mut rows = [0.0; 3];
+    let mut total = 0;
+    for k in 0..3 {
+        let cell = 46.0 - 14.0 * k as f32;
+        cols[k] = (w_units / cell).ceil() + 3.0;
+        rows[k] = (720.0 / cell).ceil() + 3.0;
+        total += (cols[k] * rows[k]) as u32;
+    }
+    (cols, rows, total)
 }
 
 #[repr(C)]
@@ -36,6 +66,14 @@ struct Mesh {
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     count: u32,
+}
+
+/// The nebula's low-resolution picture for frames of `width × height`.
+struct NebulaTarget {
+    width: u32,
+    height: u32,
+    view: wgpu::TextureView,
+    bind: wgpu::BindGroup,
 }
 
 struct Target {
@@ -65,13 +103,19 @@ pub struct Renderer {
     adapter: AdapterSummary,
     color_format: wgpu::TextureFormat,
     bind_layout: wgpu::BindGroupLayout,
-    background: wgpu::RenderPipeline,
+    sky_layout: wgpu::BindGroupLayout,
+    sampler: wgpu::Sampler,
+    nebula: wgpu::RenderPipeline,
+    sky: wgpu::RenderPipeline,
+    stars: wgpu::RenderPipeline,
     mesh: wgpu::RenderPipeline,
     shadow: wgpu::RenderPipeline,
     glow: wgpu::RenderPipeline,
     ui: wgpu::RenderPipeline,
     cube: Mesh,
     sphere: Mesh,
+    small_sphere: Mesh,
+    nebula_target: Option<NebulaTarget>,
     target: Option<Target>,
 }
 
@@ -128,9 +172,35 @@ impl Renderer {
                 count: None,
             }],
         });
+        let sky_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("nebula texture"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("scene"),
             bind_group_layouts: &[&bind_layout],
+            push_constant_ranges: &[],
+        });
+        let sky_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sky"),
+            bind_group_layouts: &[&bind_layout, &sky_layout],
             push_constant_ranges: &[],
         });
         let vertex_layout = wgpu::VertexBufferLayout {
@@ -178,10 +248,11 @@ impl Renderer {
                         blend: Option<wgpu::BlendState>,
                         depth_write: bool,
                         depth_compare: wgpu::CompareFunction,
-                        cull: Option<wgpu::Face>| {
+                        cull: Option<wgpu::Face>,
+                        layout: &wgpu::PipelineLayout| {
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
-                layout: Some(&layout),
+                layout: Some(layout),
                 vertex: wgpu::VertexState {
                     module: &shader,
                     entry_point: Some(vs),
@@ -215,16 +286,56 @@ impl Renderer {
             })
         };
         use wgpu::CompareFunction::{Always, Less, LessEqual};
-        let background = pipeline(
-            "background",
+        // The sky at the far plane: only where no mesh was drawn (depth still cleared).
+        let sky = pipeline(
+            "sky",
             "vs_bg",
-            "fs_bg",
+            "fs_sky",
             &[],
             None,
             false,
-            Always,
+            LessEqual,
             None,
+            &sky_pipeline_layout,
         );
+        let stars = pipeline(
+            "stars",
+            "vs_star",
+            "fs_star",
+            &[],
+            Some(additive),
+            false,
+            LessEqual,
+            None,
+            &layout,
+        );
+        let nebula = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("nebula"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_bg"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_nebula"),
+                compilation_options: Default::default(),
+                targets: &[Some(NEBULA_FORMAT.into())],
+            }),
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            multiview: None,
+            cache: None,
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("nebula"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
         let mesh = pipeline(
             "mesh",
             "vs_mesh",
@@ -234,6 +345,7 @@ impl Renderer {
             true,
             Less,
             Some(wgpu::Face::Back),
+            &layout,
         );
         let shadow = pipeline(
             "shadow",
@@ -244,6 +356,7 @@ impl Renderer {
             false,
             LessEqual,
             None,
+            &layout,
         );
         let glow = pipeline(
             "glow",
@@ -254,6 +367,7 @@ impl Renderer {
             false,
             LessEqual,
             None,
+            &layout,
         );
         let ui = pipeline(
             "ui",
@@ -264,24 +378,33 @@ impl Renderer {
             false,
             Always,
             None,
+            &layout,
         );
         let (cv, ci) = cube_mesh();
-        let (sv, si) = sphere_mesh(14, 24);
+        let (sv, si) = sphere_mesh(BALL_SPHERE.0, BALL_SPHERE.1);
+        let (pv, pi) = sphere_mesh(SMALL_SPHERE.0, SMALL_SPHERE.1);
         let cube = upload_mesh(&device, &cv, &ci);
         let sphere = upload_mesh(&device, &sv, &si);
+        let small_sphere = upload_mesh(&device, &pv, &pi);
         Renderer {
             device,
             queue,
             adapter,
             color_format,
             bind_layout,
-            background,
+            sky_layout,
+            sampler,
+            nebula,
+            sky,
+            stars,
             mesh,
             shadow,
             glow,
             ui,
             cube,
             sphere,
+            small_sphere,
+            nebula_target: None,
             target: None,
         }
     }
@@ -404,7 +527,7 @@ impl Renderer {
         Ok(())
     }
 
-    fn encode(&self, scene: &Scene, width: u32, height: u32, copy: bool) {
+    fn encode(&mut self, scene: &Scene, width: u32, height: u32, copy: bool) {
         let Some(target) = &self.target else { return };
         let color_view = target.color.create_view(&Default::default());
         let depth_view = target.depth.create_view(&Default::default());
@@ -414,6 +537,7 @@ impl Renderer {
                 label: Some("frame"),
             });
         self.encode_scene(&mut enc, scene, &color_view, &depth_view, width, height);
+        let Some(target) = &self.target else { return };
         if copy {
             copy_to_buffer(
                 &mut enc,
@@ -430,7 +554,7 @@ impl Renderer {
     /// Records the render pass drawing `scene` into `color_view` (of this renderer's
     /// colour format) with `depth_view` (depth format, same size `width × height`).
     pub(crate) fn encode_scene(
-        &self,
+        &mut self,
         enc: &mut wgpu::CommandEncoder,
         scene: &Scene,
         color_view: &wgpu::TextureView,
@@ -440,14 +564,23 @@ impl Renderer {
     ) {
         let cam = &scene.camera;
         let light = glam::Vec3::new(-0.35, -0.55, 0.9).normalize();
+        let (star_cols, star_rows, star_cells) = star_grid(width, height);
         let globals = Globals {
             view_proj: cam.view_proj.to_cols_array_2d(),
             cam_right: cam.right.extend(0.0).to_array(),
             cam_up: cam.up.extend(0.0).to_array(),
             eye: cam.eye.extend(1.0).to_array(),
             light_dir: light.extend(0.0).to_array(),
-            screen: [width as f32, height as f32, scene.time_s, 0.0],
+            screen: [
+                width as f32,
+                height as f32,
+                scene.time_s,
+                NEBULA_DOWNSCALE as f32,
+            ],
+            star_cols: [star_cols[0], star_cols[1], star_cols[2], 0.0],
+            star_rows: [star_rows[0], star_rows[1], star_rows[2], 0.0],
         };
+        self.ensure_nebula_target(width, height);
         let d = &self.device;
         let uniform = d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("globals"),
@@ -473,10 +606,34 @@ impl Renderer {
         };
         let boxes = instances("boxes", bytemuck::cast_slice(&scene.boxes));
         let spheres = instances("spheres", bytemuck::cast_slice(&scene.spheres));
+        let small_spheres = instances("small spheres", bytemuck::cast_slice(&scene.small_spheres));
         let shadows = instances("shadows", bytemuck::cast_slice(&scene.shadows));
         let particles = instances("particles", bytemuck::cast_slice(&scene.particles));
         let ui = instances("ui", bytemuck::cast_slice(&scene.ui));
 
+        let Some(nebula) = &self.nebula_target else {
+            return;
+        };
+        {
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("nebula"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &nebula.view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+            });
+            pass.set_bind_group(0, &bind, &[]);
+            pass.set_pipeline(&self.nebula);
+            pass.draw(0..3, 0..1);
+        }
         {
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("scene"),
@@ -501,12 +658,15 @@ impl Renderer {
                 occlusion_query_set: None,
             });
             pass.set_bind_group(0, &bind, &[]);
-            pass.set_pipeline(&self.background);
-            pass.draw(0..3, 0..1);
             pass.set_pipeline(&self.mesh);
             for (mesh, buf, n) in [
                 (&self.cube, &boxes, scene.boxes.len()),
                 (&self.sphere, &spheres, scene.spheres.len()),
+                (
+                    &self.small_sphere,
+                    &small_spheres,
+                    scene.small_spheres.len(),
+                ),
             ] {
                 if let Some(buf) = buf {
                     pass.set_vertex_buffer(0, mesh.vertices.slice(..));
@@ -515,6 +675,12 @@ impl Renderer {
                     pass.draw_indexed(0..mesh.count, 0, 0..n as u32);
                 }
             }
+            // The sky after the opaque meshes: the depth test skips the covered pixels.
+            pass.set_pipeline(&self.sky);
+            pass.set_bind_group(1, &nebula.bind, &[]);
+            pass.draw(0..3, 0..1);
+            pass.set_pipeline(&self.stars);
+            pass.draw(0..6, 0..star_cells);
             for (pipeline, buf, n) in [
                 (&self.shadow, &shadows, scene.shadows.len()),
                 (&self.glow, &particles, scene.particles.len()),
@@ -527,6 +693,48 @@ impl Renderer {
                 }
             }
         }
+    }
+
+    /// Makes the nebula's low-resolution texture match frames of `width × height`.
+    fn ensure_nebula_target(&mut self, width: u32, height: u32) {
+        if matches!(&self.nebula_target, Some(n) if n.width == width && n.height == height) {
+            return;
+        }
+        let texture = self.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("nebula"),
+            size: wgpu::Extent3d {
+                width: width.div_ceil(NEBULA_DOWNSCALE).max(1),
+                height: height.div_ceil(NEBULA_DOWNSCALE).max(1),
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: NEBULA_FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&Default::default());
+        let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("nebula texture"),
+            layout: &self.sky_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Sampler(&self.sampler),
+                },
+            ],
+        });
+        self.nebula_target = Some(NebulaTarget {
+            width,
+            height,
+            view,
+            bind,
+        });
     }
 
     fn read_back(&self) -> Result<RgbaImage, RenderError> {
@@ -670,11 +878,21 @@ pub(crate) fn open_device(
     let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
         label: Some("foosball-render"),
         required_features: wgpu::Features::empty(),
-        required_limits: wgpu::Limits::downlevel_defaults().using_resolution(adapter.limits()),
+        required_limits: base_limits().using_resolution(adapter.limits()),
         ..Default::default()
     }))
     .map_err(|e| RenderError::Device(e.to_string()))?;
     Ok((adapter, device, queue))
+}
+
+/// The limits asked of the device: wgpu's downlevel defaults; in a browser WebGL2's
+/// (no compute, no storage buffers: the pipelines use neither).
+fn base_limits() -> wgpu::Limits {
+    if cfg!(target_arch = "wasm32") {
+        wgpu::Limits::downlevel_webgl2_defaults()
+    } else {
+        wgpu::Limits::downlevel_defaults()
+    }
 }
 
 fn upload_mesh(device: &wgpu::Device, v: &[Vertex], i: &[u32]) -> Mesh {
@@ -752,6 +970,26 @@ fn sphere_mesh(rings: u32, segments: u32) -> (Vec<Vertex>, Vec<u32>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn star_grids_cover_the_frame_with_a_cell_to_spare() {
+        for (w, h) in [(1280, 720), (640, 360), (1920, 1080), (720, 1280), (1, 1)] {
+            let (cols, rows, total) = star_grid(w, h);
+            let w_units = 720.0 * w as f32 / h as f32;
+            let mut sum = 0;
+            for k in 0..3 {
+                let cell = 46.0 - 14.0 * k as f32;
+                // A drifting window of the width spans at most ceil(W / cell) + 1 cells.
+                assert!(
+                    (cols[k] - 2.0) * cell >= w_units + cell,
+                    "{w}x{h} layer {k}"
+                );
+                assert!((rows[k] - 2.0) * cell >= 720.0, "{w}x{h} layer {k}");
+                sum += (cols[k] * rows[k]) as u32;
+            }
+            assert_eq!(sum, total);
+        }
+    }
 
     #[test]
     fn cube_faces_wind_outwards() {

@@ -34,7 +34,7 @@ pub use view::{
     BallSnapshot, CharacterKind, CharacterLook, EventKind, FrameSnapshot, ManSnapshot, RenderEvent,
     RodGeometry, RodPose, TableGeometry, Team,
 };
-pub use window::{PresentChoice, WindowRenderer};
+pub use window::{DrawTimes, PresentChoice, WindowRenderer};
 
 /// Why a picture could not be rendered.
 #[derive(Debug, thiserror::Error)]

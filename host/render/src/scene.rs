@@ -142,8 +142,11 @@ pub struct Scene {
     pub time_s: f32,
     /// Lit boxes (table, rods, men).
     pub boxes: Vec<MeshInstance>,
-    /// Lit spheres (the ball).
+    /// Lit spheres (the ball), drawn with a fine mesh.
     pub spheres: Vec<MeshInstance>,
+    /// Lit spheres a few pixels across (the characters' helmets and pads), drawn with a
+    /// coarse mesh: on a software rasteriser triangle setup, not pixels, is their cost.
+    pub small_spheres: Vec<MeshInstance>,
     /// Darkening blobs on the field (alpha blended).
     pub shadows: Vec<Sprite>,
     /// Glowing particles (additive).
@@ -209,6 +212,7 @@ pub fn build_with_hud(
         time_s: snap.time_s as f32,
         boxes: Vec::new(),
         spheres: Vec::new(),
+        small_spheres: Vec::new(),
         shadows: Vec::new(),
         particles: Vec::new(),
         ui: Vec::new(),

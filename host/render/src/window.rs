@@ -15,6 +15,7 @@ use crate::image::RgbaImage;
 use crate::scene::{self, Hud, Screen};
 use crate::view::FrameSnapshot;
 use crate::{RenderError, Renderer};
+use std::time::Instant;
 
 /// How frames reach the screen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -27,6 +28,21 @@ pub enum PresentChoice {
     LowLatency,
 }
 
+/// Where one [`WindowRenderer::draw`] spent its time on the calling thread, ms. On a
+/// software adapter the GPU's work runs on the driver's own threads and shows here as
+/// waiting: in `acquire` (for a free swapchain image) and `present`.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct DrawTimes {
+    /// Waiting for the surface's next image (the previous frames' GPU work, vsync).
+    pub acquire_ms: f64,
+    /// Building the scene's instance lists from the snapshot (CPU).
+    pub build_ms: f64,
+    /// Uploading the instances, recording and submitting the command buffer.
+    pub encode_ms: f64,
+    /// Presenting (and, when capturing, reading the frame back).
+    pub present_ms: f64,
+}
+
 /// A [`Renderer`] drawing into a window's surface.
 pub struct WindowRenderer {
     renderer: Renderer,
@@ -34,6 +50,7 @@ pub struct WindowRenderer {
     config: wgpu::SurfaceConfiguration,
     depth: wgpu::Texture,
     can_copy: bool,
+    last_times: DrawTimes,
 }
 
 impl WindowRenderer {
@@ -90,6 +107,7 @@ impl WindowRenderer {
             config,
             depth,
             can_copy,
+            last_times: DrawTimes::default(),
         })
     }
 
@@ -101,6 +119,11 @@ impl WindowRenderer {
     /// The present mode in use, in words (`Fifo`, `Mailbox`).
     pub fn present_mode(&self) -> String {
         format!("{:?}", self.config.present_mode)
+    }
+
+    /// Where the last [`WindowRenderer::draw`] spent its time.
+    pub fn last_draw_times(&self) -> DrawTimes {
+        self.last_times
     }
 
     /// The surface size, pixels.
@@ -132,6 +155,8 @@ impl WindowRenderer {
         capture: bool,
     ) -> Result<Option<RgbaImage>, RenderError> {
         let (width, height) = self.size();
+        let ms = |since: Instant| since.elapsed().as_secs_f64() * 1e3;
+        let t0 = Instant::now();
         let frame = match self.surface.get_current_texture() {
             Ok(f) => f,
             Err(wgpu::SurfaceError::Outdated | wgpu::SurfaceError::Lost) => {
@@ -141,8 +166,13 @@ impl WindowRenderer {
             Err(wgpu::SurfaceError::Timeout) => return Ok(None),
             Err(e) => return Err(RenderError::Surface(e.to_string())),
         };
+        let acquire_ms = ms(t0);
+        let t1 = Instant::now();
         let scene = scene::build_with_hud(snap, screen, hud, width, height);
-        let device = &self.renderer.device;
+        let build_ms = ms(t1);
+        let t2 = Instant::now();
+        // A handle (wgpu devices are reference counted): encoding borrows the renderer.
+        let device = &self.renderer.device.clone();
         device.push_error_scope(wgpu::ErrorFilter::Validation);
         let view = frame.texture.create_view(&Default::default());
         let depth_view = self.depth.create_view(&Default::default());
@@ -166,25 +196,32 @@ impl WindowRenderer {
         if let Some(e) = pollster::block_on(device.pop_error_scope()) {
             return Err(RenderError::Gpu(e.to_string()));
         }
+        let encode_ms = ms(t2);
+        let t3 = Instant::now();
         frame.present();
-        if !capture {
-            return Ok(None);
-        }
-        let Some(buffer) = readback else {
-            return self
+        let picture = match (capture, readback) {
+            (false, _) => Ok(None),
+            (true, None) => self
                 .renderer
                 .render_to_rgba_with_hud(snap, screen, hud, width, height)
-                .map(Some);
+                .map(Some),
+            (true, Some(buffer)) => read_buffer(
+                device,
+                &buffer,
+                padded_row,
+                width,
+                height,
+                self.config.format,
+            )
+            .map(Some),
         };
-        read_buffer(
-            device,
-            &buffer,
-            padded_row,
-            width,
-            height,
-            self.config.format,
-        )
-        .map(Some)
+        self.last_times = DrawTimes {
+            acquire_ms,
+            build_ms,
+            encode_ms,
+            present_ms: ms(t3),
+        };
+        picture
     }
 }
 

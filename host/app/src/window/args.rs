@@ -40,7 +40,7 @@ pub struct WindowArgs {
     /// Start in calibration mode.
     #[arg(long)]
     pub calibrate: bool,
-    /// Quit after this many seconds (unattended checks).
+    /// Quit this many seconds after the first frame showed (unattended checks).
     #[arg(long, hide = true)]
     pub exit_after_s: Option<f64>,
     /// Write the frame the window presents last (at --exit-after-s) to this PNG.

@@ -16,6 +16,7 @@ pub mod calibrate;
 #[cfg(test)]
 mod calibration_e2e;
 pub mod controls;
+pub(crate) mod cpu;
 pub mod flow;
 pub mod gamepad;
 pub mod script;
@@ -26,7 +27,7 @@ use board::BoardChoice;
 use controls::{Controls, Key};
 use flow::Stage;
 use foosball_audio::AudioOutput;
-use foosball_render::{PresentChoice, WindowRenderer};
+use foosball_render::{DrawTimes, PresentChoice, WindowRenderer};
 use foosball_sim::motion::live::LiveHandle;
 use gamepad::Gamepads;
 use script::Script;
@@ -62,7 +63,7 @@ pub struct WindowOptions {
     pub calibration_path: Option<PathBuf>,
     /// Start in calibration mode.
     pub calibrate: bool,
-    /// Quit after this many seconds (unattended checks).
+    /// Quit this many seconds after the first frame showed (unattended checks).
     pub exit_after_s: Option<f64>,
     /// Write the last presented frame here as PNG when quitting.
     pub capture_window: Option<PathBuf>,
@@ -106,8 +107,67 @@ struct App {
     started: Instant,
     last_tick: Instant,
     frames: u64,
+    stages: FrameStages,
     last: Option<FrameOut>,
     capture_written: bool,
+}
+
+/// Where the frames' time went on the window's thread, summed over the frames after
+/// the first (which also compiles the driver's shaders).
+#[derive(Debug, Default)]
+struct FrameStages {
+    /// When the first frame was presented, and the latest.
+    first: Option<Instant>,
+    latest: Option<Instant>,
+    /// Frames summed below (every frame after the first).
+    n: u64,
+    /// The session's frame: board, screens, the physics thread's snapshots, ms.
+    session_ms: f64,
+    /// The renderer's stages, ms.
+    draw: DrawTimes,
+}
+
+impl FrameStages {
+    fn add(&mut self, now: Instant, session_ms: f64, draw: DrawTimes) {
+        self.latest = Some(now);
+        if self.first.is_none() {
+            self.first = Some(now);
+            return;
+        }
+        self.n += 1;
+        self.session_ms += session_ms;
+        self.draw.acquire_ms += draw.acquire_ms;
+        self.draw.build_ms += draw.build_ms;
+        self.draw.encode_ms += draw.encode_ms;
+        self.draw.present_ms += draw.present_ms;
+    }
+
+    /// Frames per second from the first presented frame to the latest.
+    fn fps(&self) -> f64 {
+        match (self.first, self.latest) {
+            (Some(a), Some(b)) if b > a => self.n as f64 / (b - a).as_secs_f64(),
+            _ => 0.0,
+        }
+    }
+
+    /// `{"session": …, "acquire": …, …}`: mean ms per frame of each stage, and the
+    /// mean time between frames.
+    fn json(&self) -> String {
+        let n = self.n.max(1) as f64;
+        let interval = match (self.first, self.latest) {
+            (Some(a), Some(b)) => (b - a).as_secs_f64() * 1e3 / n,
+            _ => 0.0,
+        };
+        format!(
+            "{{\"session\": {:.2}, \"acquire\": {:.2}, \"build\": {:.2}, \"encode\": {:.2}, \
+             \"present\": {:.2}, \"interval\": {interval:.2}}}",
+            self.session_ms / n,
+            self.draw.acquire_ms / n,
+            self.draw.build_ms / n,
+            self.draw.encode_ms / n,
+            self.draw.present_ms / n,
+        )
+    }
 }
 
 impl App {
@@ -163,6 +223,7 @@ impl App {
             started: now,
             last_tick: now,
             frames: 0,
+            stages: FrameStages::default(),
             last: None,
             capture_written: false,
         })
@@ -193,14 +254,25 @@ impl App {
             .iter()
             .map(|r| format!("[{:.4}, {:.4}]", r.slide_m, r.angle_rad))
             .collect();
+        let startup = self
+            .stages
+            .first
+            .map_or(0.0, |t| (t - self.started).as_secs_f64());
+        let cpu: Vec<String> = cpu::thread_cpu_seconds()
+            .iter()
+            .map(|(name, s)| format!("{name:?}: {s:.2}"))
+            .collect();
         println!(
-            "{{\"frames\": {}, \"seconds\": {elapsed:.2}, \"fps\": {:.1}, \"adapter\": {adapter:?}, \
+            "{{\"frames\": {}, \"seconds\": {elapsed:.2}, \"startup_s\": {startup:.2}, \
+             \"fps\": {:.1}, \"frame_ms\": {}, \"cpu_s\": {{{}}}, \"adapter\": {adapter:?}, \
              \"present_mode\": {present:?}, \"board\": {:?}, \"stage\": {:?}, \"screen\": {:?}, \
              \"match_time_s\": {:.3}, \"paused\": {}, \"score\": [{}, {}], \
              \"ball\": [{:.5}, {:.5}, {:.5}], \"width\": {w}, \"height\": {h}, \"sound\": {:?}, \
              \"input\": {:?}, \"controllers\": [{:?}, {:?}], \"rods\": [{}]}}",
             self.frames,
-            self.frames as f64 / elapsed.max(1e-9),
+            self.stages.fps(),
+            self.stages.json(),
+            cpu.join(", "),
             self.session.board_name(),
             last.stage.name(),
             last.screen.name(),
@@ -274,7 +346,13 @@ impl App {
         let now = Instant::now();
         let dt = now.duration_since(self.last_tick).as_secs_f64();
         self.last_tick = now;
-        let t = now.duration_since(self.started).as_secs_f64();
+        // Unattended runs count from the first presented frame, so that a slow start
+        // (the driver compiling its shaders on a loaded machine) never bunches the
+        // script's keys or cuts the run short.
+        let t = self
+            .stages
+            .first
+            .map_or(0.0, |first| now.duration_since(first).as_secs_f64());
         for (key, pressed) in self.options.script.due(t) {
             if let Some(code) = key {
                 self.key(el, code, pressed);
@@ -292,6 +370,7 @@ impl App {
             Ok(o) => o,
             Err(e) => return self.fail(el, e),
         };
+        let session_ms = now.elapsed().as_secs_f64() * 1e3;
         if self.live.is_some()
             && matches!(
                 out.stage,
@@ -330,6 +409,8 @@ impl App {
         match renderer.draw(&out.snapshot, out.screen, &out.hud, capture) {
             Ok(picture) => {
                 self.frames += 1;
+                let times = renderer.last_draw_times();
+                self.stages.add(Instant::now(), session_ms, times);
                 if let (Some(img), Some(path)) = (picture, &self.options.capture_window) {
                     let written = img.to_png().map_err(anyhow::Error::from).and_then(|png| {
                         space_foosball::atomic_file::write_atomic(path, &png)

@@ -1,7 +1,8 @@
 //! Scripted key presses for unattended runs (`play --demo-input SCRIPT`): a
 //! comma-separated list of `SECONDS:KEY` (press and release 0.2 s later),
-//! `SECONDS:KEY+` (press) and `SECONDS:KEY-` (release), seconds since the window
-//! opened. Keys: `enter`, `space`, `tab`, `esc`, `up`, `down`, `left`, `right`, a letter
+//! `SECONDS:KEY+` (press) and `SECONDS:KEY-` (release), seconds since the window's
+//! first frame showed. A frame hands out at most one press or release per key, so a
+//! slow frame never merges a tap's press and release. Keys: `enter`, `space`, `tab`, `esc`, `up`, `down`, `left`, `right`, a letter
 //! `a`–`z` or a digit `0`–`9`.
 //!
 //! `--demo-input start` is the built-in script that leaves the attract screen and starts
@@ -21,7 +22,7 @@ pub const TAP_S: f64 = 0.2;
 /// A key press or release at a time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ScriptedKey {
-    /// Seconds since the window opened.
+    /// Seconds since the window's first frame.
     pub at_s: f64,
     /// The key.
     pub key: KeyCode,
@@ -105,10 +106,14 @@ impl std::str::FromStr for Script {
 }
 
 impl Script {
-    /// The presses and releases due by `t_s` not handed out yet, in order.
+    /// The presses and releases due by `t_s` not handed out yet, in order, up to (not
+    /// including) a second one for the same key: that one waits for the next frame.
     pub fn due(&mut self, t_s: f64) -> Vec<(Option<KeyCode>, bool)> {
         let mut out = Vec::new();
         while let Some(k) = self.keys.get(self.next).filter(|k| k.at_s <= t_s) {
+            if out.iter().any(|&(key, _)| key == Some(k.key)) {
+                break;
+            }
             out.push((Some(k.key), k.pressed));
             self.next += 1;
         }
@@ -131,14 +136,12 @@ mod tests {
         let mut s: Script = "1.5:w-, 0.5:enter, 1:w+".parse().unwrap();
         assert!(s.due(0.4).is_empty());
         assert_eq!(s.due(0.6), vec![(Some(KeyCode::Enter), true)]);
+        // A late frame: W's press now, its release on the next frame.
         assert_eq!(
             s.due(2.0),
-            vec![
-                (Some(KeyCode::Enter), false),
-                (Some(KeyCode::KeyW), true),
-                (Some(KeyCode::KeyW), false)
-            ]
+            vec![(Some(KeyCode::Enter), false), (Some(KeyCode::KeyW), true)]
         );
+        assert_eq!(s.due(2.0), vec![(Some(KeyCode::KeyW), false)]);
         assert!(s.due(9.0).is_empty());
         let start: Script = "start".parse().unwrap();
         assert!(!start.is_empty());
