@@ -3,10 +3,11 @@
 
 use virtual_physics::algebra::{Inertia, Sym3, Vec3, SE3};
 use virtual_physics::geometry::V3;
-use virtual_physics::model::{ArticulatedTree, Prismatic, Revolute};
+use virtual_physics::model::{ArticulatedTree, Prismatic};
 use virtual_physics::pipeline::articulated::ArticulatedSystem;
 use virtual_physics::pipeline::{Effect, Effects, Motor, World};
 
+mod hinged_arm;
 mod scene_order;
 use scene_order::*;
 
@@ -19,24 +20,9 @@ fn world(dt: f64) -> World {
         .build()
 }
 
-/// A horizontal arm about `y`: 1 kg at 0.4 m (plus a small rotational inertia). Gravity's
-/// torque about the hinge is `m g 0.4 = 3.924 N·m`.
+/// The arm at the origin (see `hinged_arm`).
 fn arm() -> (ArticulatedTree<f64>, f64) {
-    let mut tree = ArticulatedTree::new(Vec3::new(0.0, 0.0, -G));
-    let inertia = Inertia::from_com(
-        1.0,
-        Vec3::new(0.4, 0.0, 0.0),
-        Sym3::diagonal(&Vec3::repeat(1e-3)),
-    );
-    tree.add_body(
-        "arm",
-        None,
-        SE3::identity(),
-        Revolute::new(Vec3::y()),
-        inertia,
-    )
-    .unwrap();
-    (tree, 1.0 * G * 0.4)
+    hinged_arm::arm(SE3::identity())
 }
 
 fn servo(max_force: f64) -> Motor {

@@ -19,6 +19,7 @@ use virtual_physics::model::{ArticulatedTree, Prismatic, Revolute};
 use virtual_physics::pipeline::articulated::ArticulatedSystem;
 use virtual_physics::pipeline::{Effect, Effects, Motor, Trajectory, World};
 
+mod hinged_arm;
 mod run_length;
 mod scene_order;
 use run_length::length;
@@ -134,20 +135,7 @@ fn world() -> World {
 /// A 1 kg arm at 0.4 m on a hinge about `y`, held by a servo toward 0.5 rad (stiffness
 /// 200 N·m/rad, damping 20 N·m·s/rad, 10 N·m): a tree stepped inside the constraint solve.
 fn servo_arm() -> ArticulatedSystem {
-    let mut tree = ArticulatedTree::new(Vec3::new(0.0, 0.0, -G));
-    let inertia = Inertia::from_com(
-        1.0,
-        Vec3::new(0.4, 0.0, 0.0),
-        Sym3::diagonal(&Vec3::repeat(1e-3)),
-    );
-    tree.add_body(
-        "arm",
-        None,
-        SE3::from_translation(Vec3::new(5.0, 0.0, 0.0)),
-        Revolute::new(Vec3::y()),
-        inertia,
-    )
-    .unwrap();
+    let (tree, _) = hinged_arm::arm(SE3::from_translation(Vec3::new(5.0, 0.0, 0.0)));
     let motor = Motor {
         target_position: Some(0.5),
         target_velocity: 0.0,

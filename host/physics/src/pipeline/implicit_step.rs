@@ -403,6 +403,18 @@ mod tests {
     use super::*;
     use crate::dynamics::{aba, mass_matrix, rnea, Workspace};
 
+    /// The mass-ratio tree of revolute, prismatic and ball joints at a generic state: the
+    /// model, `q`, `q̇` and `τ`.
+    #[allow(clippy::type_complexity)]
+    fn fixture() -> (ArticulatedTree<f64>, Vec<f64>, Vec<f64>, Vec<f64>) {
+        let model = crate::model::builders::mass_ratio().build::<f64>().unwrap();
+        let (nq, nv) = (model.nq(), model.nv());
+        let q = (0..nq).map(|k| 0.3 * ((k as f64) * 1.7).sin()).collect();
+        let qd = (0..nv).map(|k| 2.0 * ((k as f64) * 0.9).cos()).collect();
+        let tau = (0..nv).map(|k| 0.1 * k as f64).collect();
+        (model, q, qd, tau)
+    }
+
     /// `q ⊞ ε e_c`: additive coordinates, or `R exp(ε e)` for a ball joint.
     fn perturb(model: &ArticulatedTree<f64>, q: &[f64], c: usize, eps: f64) -> Vec<f64> {
         use crate::algebra::{exp_so3, log_so3};
@@ -430,11 +442,8 @@ mod tests {
     /// `h → 0`.
     #[test]
     fn the_update_solves_the_linearised_backward_euler_system() {
-        let model = crate::model::builders::mass_ratio().build::<f64>().unwrap();
-        let (nq, nv) = (model.nq(), model.nv());
-        let q: Vec<f64> = (0..nq).map(|k| 0.3 * ((k as f64) * 1.7).sin()).collect();
-        let qd: Vec<f64> = (0..nv).map(|k| 2.0 * ((k as f64) * 0.9).cos()).collect();
-        let tau: Vec<f64> = (0..nv).map(|k| 0.1 * k as f64).collect();
+        let (model, q, qd, tau) = fixture();
+        let nv = model.nv();
         let mut ws = Workspace::new(&model);
         let mut iws = ImplicitWorkspace::new(&model);
         let h = 0.03;
@@ -514,11 +523,8 @@ mod tests {
     /// is what its own row lacks: `((M + h D) Δq̇)_c − h (τ_c − bias_c)`.
     #[test]
     fn a_prescribed_coordinate_moves_by_the_given_change_and_reports_its_impulse() {
-        let model = crate::model::builders::mass_ratio().build::<f64>().unwrap();
-        let (nq, nv) = (model.nq(), model.nv());
-        let q: Vec<f64> = (0..nq).map(|k| 0.3 * ((k as f64) * 1.7).sin()).collect();
-        let qd: Vec<f64> = (0..nv).map(|k| 2.0 * ((k as f64) * 0.9).cos()).collect();
-        let tau: Vec<f64> = (0..nv).map(|k| 0.1 * k as f64).collect();
+        let (model, q, qd, tau) = fixture();
+        let nv = model.nv();
         let mut ws = Workspace::new(&model);
         let mut iws = ImplicitWorkspace::new(&model);
         let h = 0.03;
