@@ -140,6 +140,23 @@ pub fn time_steps(w: &mut World, n: u64, show: bool) -> Result<Vec<f64>> {
     Ok(t)
 }
 
+/// Times `n` steps of a world as [`time_steps`] does; also returns the mean number of contact
+/// points per step (the step counters' `contacts`, read after each step, outside the timing).
+pub fn time_steps_counting_points(w: &mut World, n: u64, show: bool) -> Result<(Vec<f64>, f64)> {
+    let pb = if show { bar(n) } else { ProgressBar::hidden() };
+    let mut t = Vec::with_capacity(n.min(MAX_STEPS) as usize);
+    let mut points = 0.0;
+    for _ in 0..n {
+        let t0 = Instant::now();
+        w.step()?;
+        t.push(t0.elapsed().as_secs_f64() * 1e3);
+        points += w.counters().contacts as f64;
+        pb.inc(1);
+    }
+    pb.finish_and_clear();
+    Ok((t, points / n.max(1) as f64))
+}
+
 /// (median, mean, worst) of samples.
 pub fn stats(t: &[f64]) -> (f64, f64, f64) {
     let mut s = t.to_vec();
@@ -204,9 +221,16 @@ pub fn bench(
     }
     let n = steps.or(s.steps).unwrap_or(600).min(MAX_STEPS);
     let start = bodies::positions(&w);
-    let t = time_steps(&mut w, n, true)?;
+    let (t, points) = time_steps_counting_points(&mut w, n, true)?;
     let (med, mean, worst) = stats(&t);
     let d = bodies::displacement(&w, &start);
+    let substeps = w.settings().substeps;
+    // The whole step's median time shared over every contact point of every substep.
+    let ns_per_point_substep = if points > 0.0 {
+        serde_json::json!(med * 1e6 / (points * substeps as f64))
+    } else {
+        serde_json::Value::Null
+    };
     let out = serde_json::json!({
         "scene": s.name, "steps": n, "bodies": w.body_count(),
         "sleeping": s.effects.contains(&Effect::Sleeping),
@@ -214,7 +238,8 @@ pub fn bench(
         "max_drift_m": d.max_3d,
         "max_horizontal_drift_m": d.max_horizontal, "max_vertical_drift_m": d.max_vertical,
         "max_penetration_m": w.max_penetration(),
-        "substeps": w.settings().substeps, "contact_hertz": w.settings().contact_hertz,
+        "mean_contact_points": points, "ns_per_contact_point_substep": ns_per_point_substep,
+        "substeps": substeps, "contact_hertz": w.settings().contact_hertz,
         "soft_contacts": w.settings().soft_contacts,
         "batch_contacts": w.settings().batch_contacts,
         "contact_hertz_cap": w.settings().contact_hertz_cap,

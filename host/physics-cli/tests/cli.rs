@@ -333,3 +333,32 @@ fn every_bad_scene_reproducer_is_rejected_with_one_line() {
         assert_one_line_error(&out, &f.display().to_string());
     }
 }
+
+/// `vphys bench` shares the median step over every contact point of every substep: the field
+/// is `median_ms · 10⁶ / (mean points × substeps)`, and null for a scene without contacts.
+#[test]
+fn bench_reports_ns_per_contact_point_per_substep() {
+    let out = vphys(&["bench", "towers-80", "--steps", "3", "--sleeping", "false"]);
+    assert!(out.status.success(), "{out:?}");
+    let v = &json_lines(&out)[0];
+    let points = v["mean_contact_points"].as_f64().expect("points");
+    let substeps = v["substeps"].as_f64().expect("substeps");
+    let median = v["median_ms"].as_f64().expect("median");
+    let ns = v["ns_per_contact_point_substep"].as_f64().expect("ns");
+    // 80 boxes, each resting on a face: at least 4 points per box.
+    assert!(points >= 4.0 * 80.0, "{points} points");
+    let expected = median * 1e6 / (points * substeps);
+    assert!(
+        (ns - expected).abs() <= 1e-9 * expected,
+        "{ns} vs {expected}"
+    );
+
+    let dir = scratch("bench-points");
+    let scene = thrown_box(&dir, r#""gravity""#);
+    let out = vphys(&["bench", scene.to_str().unwrap(), "--steps", "3"]);
+    assert!(out.status.success(), "{out:?}");
+    let v = &json_lines(&out)[0];
+    assert_eq!(v["mean_contact_points"].as_f64(), Some(0.0));
+    assert!(v["ns_per_contact_point_substep"].is_null(), "{v}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -8,7 +8,7 @@
 //! of [`ContactConstraint::solve`], lane by lane.
 //!
 //! Constraints with rolling resistance or anchors that follow a round part's turn
-//! ([`ContactConstraint::follows`]), and those no colour can take, stay scalar: the caller
+//! (`ContactConstraint::follows`), and those no colour can take, stay scalar: the caller
 //! solves [`ContactBatches::scalar`] with [`ContactConstraint::solve`] in the same pass.
 //!
 //! On x86-64 the same code also runs compiled for AVX2 when the processor has it (detected
