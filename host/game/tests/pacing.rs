@@ -13,6 +13,11 @@
 //! ```sh
 //! SPACE_FOOSBALL_FULL_MATCHES=1 cargo test -p space-foosball --release --test pacing -- --nocapture
 //! ```
+//!
+//! Measured with that command on the standard table: median goal gap 8.3 s and 1.10
+//! re-serves per match (10 balls out of every man's reach, 12 stuck in reach) with its
+//! 240 mm corner ramps; 9.9 s and 3.55 re-serves per match (50 out of reach, 21 stuck)
+//! with the 50 mm ramps before.
 
 use space_foosball::play::{idle_inputs, Match, MatchConfig};
 use space_foosball::rules::{Event, Phase, RulesConfig, ServeReason};

@@ -60,7 +60,8 @@ pub struct Field {
     pub rod_height_m: f64,
     /// Size of the corner ramps, m: in each of the four corners a ramp rises from the
     /// field along both walls over this distance, so a ball cannot come to rest in a
-    /// corner.
+    /// corner. Sized to the corners beside the goals that no man reaches (the standard
+    /// table's 240 mm: see `tables/standard.toml`).
     pub corner_ramp_m: f64,
     /// Height of the corner ramps at the walls, m.
     pub corner_ramp_height_m: f64,
