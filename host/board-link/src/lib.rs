@@ -44,20 +44,30 @@
 //! ```
 #![deny(missing_docs)]
 
+// In a browser (wasm32) there is neither libusb nor a Unix socket: the page hands the
+// reports over itself (WebHID), through `ReportReceiver`.
+#[cfg(not(target_arch = "wasm32"))]
 mod feature;
 pub mod haptics;
+#[cfg(not(target_arch = "wasm32"))]
 mod link;
 mod receiver;
+#[cfg(not(target_arch = "wasm32"))]
 mod socket;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod socket_wire;
+#[cfg(not(target_arch = "wasm32"))]
 mod usb;
 
 use std::time::Duration;
 
 pub use foosball_protocol::{DecodeError, InReport, OutReport, ReportTiming};
 pub use receiver::ReportReceiver;
+#[cfg(not(target_arch = "wasm32"))]
 pub use socket::SocketBoard;
+#[cfg(not(target_arch = "wasm32"))]
 pub use socket_wire::WireError;
+#[cfg(not(target_arch = "wasm32"))]
 pub use usb::UsbBoard;
 
 /// How often a disconnected board is looked for again (USB rescan, socket connect).
@@ -186,6 +196,7 @@ pub enum BoardError {
     Malformed(#[from] DecodeError),
     /// The emulator socket carried bytes that are not valid [`socket_wire`] framing. The
     /// connection is dropped and re-established on later polls.
+    #[cfg(not(target_arch = "wasm32"))]
     #[error("socket framing error: {0}")]
     Wire(#[from] WireError),
     /// The peer speaks another report format version. The connection is dropped (and
@@ -219,13 +230,14 @@ impl BoardError {
     /// Whether the error means the board is not reachable now (gone, not found, refused),
     /// as opposed to one bad report or one failed transfer.
     pub fn is_link_down(&self) -> bool {
-        matches!(
-            self,
+        match self {
             Self::Disconnected
-                | Self::NotFound { .. }
-                | Self::AccessDenied { .. }
-                | Self::VersionMismatch { .. }
-                | Self::Wire(_)
-        )
+            | Self::NotFound { .. }
+            | Self::AccessDenied { .. }
+            | Self::VersionMismatch { .. } => true,
+            #[cfg(not(target_arch = "wasm32"))]
+            Self::Wire(_) => true,
+            _ => false,
+        }
     }
 }

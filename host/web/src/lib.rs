@@ -1,0 +1,34 @@
+//! Space Foosball in a browser: the game compiled to WebAssembly, drawn by the same
+//! renderer through wgpu on WebGL2, played from the keyboard and mouse or from the real
+//! sensor board over WebHID.
+//!
+//! Target-independent (tested natively):
+//!
+//! * [`session`]: the board, the screens, the match run ahead in fixed 1 ms steps by the
+//!   frame's elapsed time ([`stepper`]), what each frame shows, plays and sends.
+//! * [`board`]: raw IN report bytes from the page → the protocol crate's decoder; OUT
+//!   reports queued for the page.
+//! * [`frame_stats`]: frame times in the page (the status line reports them).
+//! * [`keyboard`], [`keys`]: the page's emulated board, moved by keys and the mouse.
+//! * [`flow`], [`view`], [`script`]: the desktop program's own screens' flow, game → view
+//!   conversion and scripted keys, compiled here from the same source files.
+//!
+//! On `wasm32` only, `web`: the winit window on the page's canvas, the animation-frame
+//! loop, and the functions the page's JavaScript calls (WebHID reports in, OUT reports
+//! out, the status line).
+
+pub mod board;
+#[path = "../../app/src/window/flow.rs"]
+pub mod flow;
+pub mod frame_stats;
+pub mod keyboard;
+pub mod keys;
+#[path = "../../app/src/window/script.rs"]
+pub mod script;
+pub mod session;
+pub mod status;
+pub mod stepper;
+#[path = "../../app/src/view.rs"]
+pub mod view;
+#[cfg(target_arch = "wasm32")]
+mod web;

@@ -1,0 +1,675 @@
+//! A play session in the page, without the page: the board, the screens, the match run
+//! ahead by the frame's elapsed time in fixed 1 ms steps, and what each frame shows,
+//! plays and sends. The browser glue calls [`WebSession::frame`] once per animation
+//! frame with the clock; tests call it with any clock they like.
+//!
+//! It is the desktop's session (`space-foosball play`) on one thread: the screens are
+//! the desktop's own [`crate::flow`], the match is [`space_foosball::play::Match`] with
+//! the same computer opponent, the board goes through the same
+//! [`space_foosball::input::paddles::BoardInput`] tracker, the picture is interpolated
+//! between the two newest physics steps as on the desktop, and kicks of a person's rod
+//! become haptic OUT reports. A lost board pauses play (match time stops) and shows the
+//! board-lost screen; when reports flow again, play resumes.
+
+use crate::board::BrowserBoard;
+use crate::flow::{Action, Flow, Stage, PUSH_SPEED_M_S};
+use crate::keyboard::KeyboardBoard;
+use crate::stepper::Stepper;
+use crate::view;
+use board_link::Board;
+use foosball_audio::Sound;
+use foosball_render::scene::PARTICLE_LIFETIME_S;
+use foosball_render::{
+    BallSnapshot, EventKind, FrameSnapshot, Hud, RenderEvent, RodPose, Screen, TableGeometry,
+};
+use space_foosball::input::calibration::Calibration;
+use space_foosball::input::paddles::{
+    BoardInput, InputHealth, RodInputs, MOUSE_PACKET_PREDICTION_MS, PS2_WIRE_LEAD_MS,
+};
+use space_foosball::play::{KickHaptics, Match, MatchConfig, MatchSnapshot, RodController};
+use space_foosball::rules::{Event, Phase, TimedEvent};
+use space_foosball::table::{CharacterType, Table};
+
+/// How long the goal ceremony shows after a goal, s (as on the desktop).
+pub const GOAL_CEREMONY_S: f64 = 2.5;
+/// Bounces softer than this make no sound, m/s (as on the desktop).
+pub const QUIET_BOUNCE_M_S: f64 = 0.25;
+/// The most reports one physics step takes from the board (a backlog after a stall).
+const REPORTS_PER_STEP: usize = 32;
+
+/// What one frame shows and plays.
+#[derive(Debug, Clone)]
+pub struct FrameOut {
+    /// The scene, between the two newest physics steps.
+    pub snapshot: FrameSnapshot,
+    /// The screen over it.
+    pub screen: Screen,
+    /// Live text.
+    pub hud: Hud,
+    /// Sounds to start now.
+    pub sounds: Vec<Sound>,
+    /// The stage of the screens.
+    pub stage: Stage,
+    /// Match time of the newest physics step, s.
+    pub match_time_s: f64,
+    /// Whether the match is paused (board lost or the player paused).
+    pub paused: bool,
+    /// The board's input health.
+    pub health: InputHealth,
+    /// Physics steps run for this frame.
+    pub steps: u32,
+}
+
+/// Where the board's reports come from.
+enum Source {
+    /// The page's emulated board (keyboard and mouse).
+    Keyboard(Box<KeyboardBoard>),
+    /// A device (WebHID): the page pushes its reports into the board.
+    Device,
+}
+
+/// Counts over the session, for the page's status line and the tests.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Physics steps run.
+    pub steps: u64,
+    /// Physics steps dropped because frames came too late.
+    pub dropped_steps: u64,
+    /// Kick events of the running matches.
+    pub kicks: u64,
+    /// Goals of the running matches.
+    pub goals: u64,
+}
+
+/// A play session. See the [module](self).
+pub struct WebSession {
+    table: Table,
+    input: BoardInput<BrowserBoard>,
+    board_name: String,
+    source: Source,
+    latest: RodInputs,
+    game: Match,
+    snapshots: (MatchSnapshot, MatchSnapshot),
+    stepper: Stepper,
+    match_table: Table,
+    match_view: TableGeometry,
+    controllers: [RodController; 2],
+    haptics: Option<KickHaptics>,
+    flow: Flow,
+    pending: Vec<TimedEvent>,
+    events: Vec<RenderEvent>,
+    last_goal_s: Option<f64>,
+    user_paused: bool,
+    seed: u64,
+    key_hints: Vec<String>,
+    counters: Counters,
+}
+
+/// How long the key hints stay fully shown once play starts, s.
+const HINTS_SHOWN_S: f64 = 4.0;
+/// How long they then take to fade out, s.
+const HINTS_FADE_S: f64 = 2.0;
+
+fn board_input(board: BrowserBoard, table: &Table) -> BoardInput<BrowserBoard> {
+    let mut input = BoardInput::new(board, table, Calibration::default());
+    input
+        .tracker_mut()
+        .set_prediction_ms(MOUSE_PACKET_PREDICTION_MS);
+    input.tracker_mut().set_prediction_lead_ms(PS2_WIRE_LEAD_MS);
+    input
+}
+
+impl WebSession {
+    /// A session for `table` on the page's emulated board (keyboard and mouse), at the
+    /// attract screen with the computer playing itself; `seed` is the first match's.
+    pub fn new(table: Table, seed: u64) -> anyhow::Result<WebSession> {
+        let board_name = "emulated (keyboard and mouse)".to_string();
+        let mut board = BrowserBoard::new(board_name.clone());
+        board.set_connected(true);
+        let input = board_input(board, &table);
+        let latest = input.tracker().inputs();
+        let mut config = MatchConfig::computer_vs_computer(table.clone(), seed);
+        config.record_inputs = false;
+        let game = Match::new(config)?;
+        let snap = game.snapshot();
+        Ok(WebSession {
+            flow: Flow::new(&table, 0.0),
+            match_table: table.clone(),
+            match_view: view::table_geometry(&table),
+            controllers: [RodController::Computer; 2],
+            source: Source::Keyboard(Box::new(KeyboardBoard::new(&table))),
+            input,
+            board_name,
+            latest,
+            game,
+            snapshots: (snap.clone(), snap),
+            stepper: Stepper::new(),
+            table,
+            haptics: None,
+            pending: Vec::new(),
+            events: Vec::new(),
+            last_goal_s: None,
+            user_paused: false,
+            seed: seed.wrapping_add(1),
+            key_hints: vec![
+                "1-4 ROD  MOUSE/W/S SLIDE  MOUSE/A/D/WHEEL SPIN  SPACE KICK".into(),
+                "ENTER PUSH  TAB OTHER TEAM  ESC PAUSE".into(),
+            ],
+            counters: Counters::default(),
+        })
+    }
+
+    /// The keyboard's emulated board, while no device is in use.
+    pub fn keyboard(&mut self) -> Option<&mut KeyboardBoard> {
+        match &mut self.source {
+            Source::Keyboard(k) => Some(k),
+            Source::Device => None,
+        }
+    }
+
+    /// Switches to a device's reports (WebHID): from now on only
+    /// [`WebSession::device_report`] moves the rods; the board starts connected, named
+    /// `name`. The tracker starts afresh (rods centred).
+    pub fn use_device(&mut self, name: &str) {
+        let mut board = BrowserBoard::new(name);
+        board.set_connected(true);
+        self.input = board_input(board, &self.table);
+        self.board_name = name.to_string();
+        self.source = Source::Device;
+        self.key_hints = vec!["ESC PAUSE".into()];
+    }
+
+    /// Whether a device (not the keyboard) drives the rods.
+    pub fn uses_device(&self) -> bool {
+        matches!(self.source, Source::Device)
+    }
+
+    /// One IN report's bytes from the device, as received. Ignored on the keyboard's
+    /// board.
+    pub fn device_report(&mut self, bytes: &[u8]) {
+        if self.uses_device() {
+            self.input.board_mut().push_report(bytes);
+        }
+    }
+
+    /// The device was opened again (`true`) or is gone (`false`): gone, the match
+    /// pauses and the board-lost screen shows.
+    pub fn device_connected(&mut self, connected: bool) {
+        if self.uses_device() {
+            self.input.board_mut().set_connected(connected);
+        }
+    }
+
+    /// The next OUT report (haptics) for the page to send to the device, encoded.
+    pub fn take_out_report(&mut self) -> Option<[u8; foosball_protocol::OUT_REPORT_LEN]> {
+        self.input.board_mut().take_out_report()
+    }
+
+    /// The board's name.
+    pub fn board_name(&self) -> &str {
+        &self.board_name
+    }
+
+    /// The board's link counters.
+    pub fn link_stats(&mut self) -> board_link::LinkStats {
+        self.input.board_mut().stats()
+    }
+
+    /// OUT reports handed to the page so far.
+    pub fn out_reports(&mut self) -> u64 {
+        self.input.board_mut().out_reports()
+    }
+
+    /// The session's counters.
+    pub fn counters(&self) -> Counters {
+        Counters {
+            dropped_steps: self.stepper.dropped(),
+            ..self.counters
+        }
+    }
+
+    /// The newest rod inputs (table frame, after calibration).
+    pub fn rod_inputs(&self) -> &RodInputs {
+        &self.latest
+    }
+
+    /// The newest physics step.
+    pub fn newest(&self) -> &MatchSnapshot {
+        &self.snapshots.1
+    }
+
+    /// Who plays each team in the current match, `[home, away]`.
+    pub fn controllers(&self) -> [RodController; 2] {
+        self.controllers
+    }
+
+    /// The current stage.
+    pub fn stage(&self) -> Stage {
+        self.flow.stage()
+    }
+
+    /// Whether the player paused.
+    pub fn user_paused(&self) -> bool {
+        self.user_paused
+    }
+
+    /// Pauses or resumes the match on the player's request.
+    pub fn set_user_paused(&mut self, paused: bool) {
+        self.user_paused = paused && self.flow.stage() == Stage::Playing;
+    }
+
+    /// Esc: pauses a running match, resumes a paused one.
+    pub fn escape(&mut self) {
+        let paused = self.user_paused;
+        self.set_user_paused(!paused);
+    }
+
+    fn run_match(&mut self, config: MatchConfig) -> anyhow::Result<()> {
+        self.match_table = config.table.clone();
+        self.match_view = view::table_geometry(&config.table);
+        self.controllers = config.controllers;
+        self.haptics = config
+            .controllers
+            .contains(&RodController::Player)
+            .then(|| KickHaptics::new(&config.table, config.controllers));
+        self.game = Match::new(config)?;
+        let snap = self.game.snapshot();
+        self.snapshots = (snap.clone(), snap);
+        self.pending.clear();
+        self.events.clear();
+        self.last_goal_s = None;
+        self.user_paused = false;
+        self.seed = self.seed.wrapping_add(1);
+        Ok(())
+    }
+
+    fn start_attract(&mut self) -> anyhow::Result<()> {
+        let mut config = MatchConfig::computer_vs_computer(self.table.clone(), self.seed);
+        config.record_inputs = false;
+        self.run_match(config)
+    }
+
+    fn start_match(
+        &mut self,
+        characters: [CharacterType; 2],
+        controllers: [RodController; 2],
+    ) -> anyhow::Result<()> {
+        let mut table = self.table.clone();
+        for (team, c) in table.teams.iter_mut().zip(characters) {
+            if team.character != c {
+                team.character = c;
+                team.params = None;
+            }
+        }
+        let mut config = MatchConfig::player_vs_computer(table, self.seed);
+        config.controllers = controllers;
+        config.record_inputs = false;
+        self.run_match(config)
+    }
+
+    /// Runs the physics steps due at `now_s`: each takes the board's reports of its
+    /// millisecond (the keyboard's board makes one), then steps the match unless play
+    /// is paused (by the player, or because the board is lost).
+    fn step_physics(&mut self, now_s: f64) -> u32 {
+        let steps = self.stepper.due(now_s);
+        for _ in 0..steps {
+            if let Source::Keyboard(k) = &mut self.source {
+                let report = k.step_report().to_bytes();
+                self.input.board_mut().push_report(&report);
+            }
+            self.latest = self.input.poll(REPORTS_PER_STEP);
+            let lost = self.latest.health == InputHealth::BoardLost;
+            if self.user_paused || lost || self.game.phase() == Phase::Over {
+                let newest = &mut self.snapshots.1;
+                newest.paused = self.user_paused || lost;
+                newest.input_health = self.latest.health;
+                self.snapshots.0 = newest.clone();
+                continue;
+            }
+            let events = self.game.step(&self.latest);
+            let newest = self.game.snapshot();
+            self.snapshots.0 = std::mem::replace(&mut self.snapshots.1, newest);
+            self.pending.extend(events);
+            self.counters.steps += 1;
+        }
+        steps
+    }
+
+    /// Advances the physics to `now_s` (seconds on a monotonic clock) and the screens:
+    /// what to draw, play and send now.
+    pub fn frame(&mut self, now_s: f64) -> anyhow::Result<FrameOut> {
+        let steps = self.step_physics(now_s);
+        let rods = self.latest.clone();
+        let over = self.game.phase() == Phase::Over;
+        let mut sounds = Vec::new();
+        let stage_before = self.flow.stage();
+        for action in self.flow.update(now_s, &rods, over) {
+            match action {
+                Action::Sound(s) => sounds.push(s),
+                Action::StartMatch {
+                    characters,
+                    controllers,
+                } => self.start_match(characters, controllers)?,
+                Action::StartAttract => self.start_attract()?,
+            }
+        }
+        let stage = self.flow.stage();
+        if stage == Stage::Playing && self.user_paused && rods_pushed(&rods) {
+            self.user_paused = false;
+        }
+        let (prev, newest) = self.snapshots.clone();
+        let drained = std::mem::take(&mut self.pending);
+        self.take_events(&drained, &newest, now_s, &mut sounds);
+        if stage != Stage::Playing && stage_before != Stage::Playing {
+            // Only a match someone plays makes match sounds (as on the desktop).
+            sounds.retain(|s| matches!(s, Sound::MenuTick | Sound::MenuConfirm));
+        }
+        let mut snapshot = self.interpolated(&prev, &newest);
+        if stage == Stage::CharacterSelect {
+            for (i, c) in self.flow.characters().into_iter().enumerate() {
+                snapshot.table.characters[i] = view::kind(c);
+            }
+        }
+        let lost = rods.health == InputHealth::BoardLost;
+        let screen = if lost {
+            Screen::BoardLost
+        } else {
+            match stage {
+                Stage::Attract => Screen::Attract,
+                Stage::CharacterSelect => Screen::CharacterSelect,
+                Stage::Playing
+                    if self
+                        .last_goal_s
+                        .is_some_and(|t| now_s - t < GOAL_CEREMONY_S) =>
+                {
+                    Screen::GoalCeremony
+                }
+                Stage::Playing => Screen::Match,
+                Stage::FinalResult => Screen::FinalResult,
+                Stage::Calibration => Screen::Calibration,
+            }
+        };
+        let hud = self.hud(stage, lost, now_s);
+        Ok(FrameOut {
+            snapshot,
+            screen,
+            hud,
+            sounds,
+            stage,
+            match_time_s: newest.time_s,
+            paused: newest.paused || self.user_paused,
+            health: rods.health,
+            steps,
+        })
+    }
+
+    fn hud(&self, stage: Stage, lost: bool, now_s: f64) -> Hud {
+        let mut hud = Hud::default();
+        if lost {
+            hud.lines.push(format!("BOARD: {}", self.board_name()));
+            return hud;
+        }
+        if stage == Stage::Playing && self.user_paused {
+            hud.heading = "PAUSED\nPUSH A ROD OR ENTER TO RESUME".into();
+        }
+        if stage == Stage::CharacterSelect {
+            let who = self
+                .flow
+                .joined()
+                .map(|j| if j { "PLAYER" } else { "COMPUTER" }.to_string());
+            hud.team_notes = Some(who);
+        }
+        if matches!(stage, Stage::Attract | Stage::Playing) {
+            hud.lines.extend(self.key_hints.iter().cloned());
+        }
+        if stage == Stage::Playing {
+            // The key hints fade once play starts: shown 4 s, gone after 6 s.
+            let played = now_s - self.flow.since_s();
+            hud.lines_opacity =
+                (1.0 - ((played - HINTS_SHOWN_S) / HINTS_FADE_S)).clamp(0.0, 1.0) as f32;
+        }
+        hud
+    }
+
+    fn frame_snapshot(&self, s: &MatchSnapshot) -> FrameSnapshot {
+        let rods: Vec<RodPose> = s
+            .rods
+            .iter()
+            .map(|r| RodPose {
+                slide_m: r.slide_m,
+                angle_rad: r.angle_rad,
+            })
+            .collect();
+        let ball = BallSnapshot {
+            position: s.ball.position,
+            velocity: s.ball.velocity,
+        };
+        FrameSnapshot::posed(
+            &self.match_view,
+            s.time_s,
+            &rods,
+            ball,
+            s.score,
+            self.events.clone(),
+        )
+    }
+
+    /// The scene between the two newest steps (1 ms apart): drawn half a step behind
+    /// the newest, never extrapolated (as on the desktop).
+    fn interpolated(&self, prev: &MatchSnapshot, newest: &MatchSnapshot) -> FrameSnapshot {
+        let a = self.frame_snapshot(prev);
+        let b = self.frame_snapshot(newest);
+        let t = 0.5 * (prev.time_s + newest.time_s);
+        FrameSnapshot::at_time(&a, &b, t)
+    }
+
+    fn take_events(
+        &mut self,
+        events: &[TimedEvent],
+        newest: &MatchSnapshot,
+        now_s: f64,
+        sounds: &mut Vec<Sound>,
+    ) {
+        let ball = newest.ball.position;
+        for e in events {
+            let time_s = e.t_ms as f64 * 1e-3;
+            match e.event {
+                Event::Kick { speed, .. } => {
+                    self.counters.kicks += 1;
+                    self.events.push(RenderEvent {
+                        time_s,
+                        kind: EventKind::Kick,
+                        position: ball,
+                        speed,
+                    });
+                    sounds.push(Sound::Kick {
+                        speed_m_s: speed as f32,
+                    });
+                }
+                Event::Bounce { speed } => {
+                    self.events.push(RenderEvent {
+                        time_s,
+                        kind: EventKind::Bounce,
+                        position: ball,
+                        speed,
+                    });
+                    if speed >= QUIET_BOUNCE_M_S {
+                        sounds.push(Sound::Bounce {
+                            speed_m_s: speed as f32,
+                        });
+                    }
+                }
+                Event::Goal { side, .. } => {
+                    self.counters.goals += 1;
+                    let x = self.match_table.goal_line_x(side.other());
+                    self.events.push(RenderEvent {
+                        time_s,
+                        kind: EventKind::Goal(view::team(side)),
+                        position: [x, 0.0, 0.03],
+                        speed: 4.0,
+                    });
+                    self.last_goal_s = Some(now_s);
+                    sounds.push(Sound::GoalFanfare);
+                }
+                Event::Serve { .. } | Event::MatchOver { .. } => {}
+            }
+        }
+        // Haptics: a person's kicks pulse their paddle.
+        if let Some(h) = &mut self.haptics {
+            for report in h.reports(events) {
+                // A lost board drops the pulse.
+                let _ = self.input.board_mut().send(&report);
+            }
+        }
+        let horizon = newest.time_s - PARTICLE_LIFETIME_S - 0.5;
+        self.events.retain(|e| e.time_s >= horizon);
+    }
+}
+
+/// Whether any rod is being pushed (resumes a paused match).
+fn rods_pushed(rods: &RodInputs) -> bool {
+    rods.health == InputHealth::Live
+        && rods
+            .rods
+            .iter()
+            .any(|r| r.slide_velocity_m_per_s.abs() >= PUSH_SPEED_M_S)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::keyboard::Key;
+    use foosball_protocol::{InReport, OutReport};
+    use space_foosball::side::Side;
+
+    /// Frames about every 16 ms from `from_s` to `until_s`; returns the last.
+    fn frames(s: &mut WebSession, from_s: f64, until_s: f64) -> FrameOut {
+        let n = ((until_s - from_s) / 0.016).ceil().max(0.0) as u32;
+        let mut last = s.frame(from_s).unwrap();
+        for i in 1..=n {
+            last = s
+                .frame(from_s + (until_s - from_s) * f64::from(i) / f64::from(n))
+                .unwrap();
+        }
+        last
+    }
+
+    fn reports(first: u16, ms: u16, moves: &[(usize, i16, i16)]) -> Vec<[u8; 43]> {
+        (0..ms)
+            .map(|i| {
+                let mut r = InReport::all_present(first.wrapping_add(i));
+                for &(port, axial, rotation) in moves {
+                    r.paddles[port].axial = axial;
+                    r.paddles[port].rotation = rotation;
+                }
+                r.to_bytes()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_keyboard_starts_a_match_and_the_physics_keeps_to_the_clock() {
+        let mut s = WebSession::new(Table::standard(), 3).unwrap();
+        let out = frames(&mut s, 0.0, 0.9);
+        assert_eq!(out.screen, Screen::Attract);
+        assert_eq!(out.health, InputHealth::Live);
+        for (at, pressed) in [(1.0, true), (1.2, false), (2.0, true), (2.2, false)] {
+            s.keyboard().unwrap().key(Key::Push, pressed);
+            frames(&mut s, at, at + 0.2);
+        }
+        let started = frames(&mut s, 2.6, 2.6);
+        assert_eq!(started.stage, Stage::Playing);
+        assert_eq!(
+            s.controllers(),
+            [RodController::Player, RodController::Computer]
+        );
+        // One second of frames is one second of match time, in whole steps.
+        let t0 = started.match_time_s;
+        let later = frames(&mut s, 2.6, 3.6);
+        let ran = later.match_time_s - t0;
+        assert!((ran - 1.0).abs() <= 0.0021, "{ran} s of match time");
+        // The keyboard's kick turns the rod in physics.
+        let rod = s.keyboard().unwrap().keyboard_rod().unwrap();
+        let before = s.newest().rods[rod].angle_rad;
+        s.keyboard().unwrap().key(Key::Kick, true);
+        frames(&mut s, 3.6, 4.0);
+        let turned = s.newest().rods[rod].angle_rad - before;
+        let forward = -Side::Home.attack_dir();
+        assert!(turned * forward > 3.0, "turned {turned} rad");
+        // Esc pauses: match time stands still.
+        s.escape();
+        let paused = frames(&mut s, 4.0, 4.1);
+        assert!(paused.paused);
+        let still = frames(&mut s, 4.1, 4.5);
+        assert_eq!(still.match_time_s, paused.match_time_s);
+    }
+
+    #[test]
+    fn a_device_plays_a_match_a_kick_pulses_it_and_losing_it_pauses() {
+        let table = Table::standard();
+        let mut s = WebSession::new(table.clone(), 5).unwrap();
+        s.use_device("WebHID test board");
+        assert!(s.keyboard().is_none());
+        let keeper = table.rods_of(Side::Home).next().unwrap();
+        let port = table.rods[keeper].port;
+        let mut t = 0.0;
+        let mut seq = 0u16;
+        // Out and back twice, 60 mm at 0.5 m/s, each followed by 100 still reports (a
+        // board reports every millisecond, moving or not).
+        for _ in 0..2 {
+            frames(&mut s, t, t + 0.9);
+            for r in reports(seq, 120, &[(port, 4, 0)]) {
+                s.device_report(&r);
+            }
+            for r in reports(seq + 120, 100, &[]) {
+                s.device_report(&r);
+            }
+            frames(&mut s, t + 0.9, t + 1.4);
+            for r in reports(seq + 220, 120, &[(port, -4, 0)]) {
+                s.device_report(&r);
+            }
+            for r in reports(seq + 340, 100, &[]) {
+                s.device_report(&r);
+            }
+            seq += 440;
+            t += 1.8;
+            frames(&mut s, t - 0.4, t);
+        }
+        assert_eq!(s.stage(), Stage::Playing);
+        assert_eq!(s.controllers()[0], RodController::Player);
+        // Every Home rod spins until one kicks: a haptic OUT report on its port.
+        let home: Vec<usize> = table
+            .rods_of(Side::Home)
+            .map(|r| table.rods[r].port)
+            .collect();
+        let spin: Vec<(usize, i16, i16)> = home.iter().map(|&p| (p, 0, 2)).collect();
+        let out = loop {
+            for r in reports(seq, 100, &spin) {
+                s.device_report(&r);
+            }
+            seq = seq.wrapping_add(100);
+            frames(&mut s, t, t + 0.1);
+            t += 0.1;
+            if let Some(bytes) = s.take_out_report() {
+                break OutReport::decode(&bytes).unwrap();
+            }
+            assert!(t < 120.0, "no kick in 120 s: {:?}", s.counters());
+        };
+        let pulsed: Vec<usize> = (0..8).filter(|&p| out.haptics[p].duration_ms > 0).collect();
+        assert!(!pulsed.is_empty() && pulsed.iter().all(|p| home.contains(p)));
+        // Unplugged: the board-lost screen, match time stands still; back: it runs.
+        s.device_connected(false);
+        let lost = frames(&mut s, t, t + 0.1);
+        assert_eq!(lost.screen, Screen::BoardLost);
+        assert!(lost.paused);
+        let still = frames(&mut s, t + 0.1, t + 0.6);
+        assert_eq!(still.match_time_s, lost.match_time_s);
+        s.device_connected(true);
+        for r in reports(seq, 20, &[]) {
+            s.device_report(&r);
+        }
+        let back = frames(&mut s, t + 0.6, t + 1.0);
+        assert!(!back.paused);
+        assert!(back.match_time_s > still.match_time_s);
+    }
+}

@@ -1,0 +1,73 @@
+//! The page's status line: one JSON object with what the game shows and has done,
+//! which the page exposes to scripts (`spaceFoosball.status()`) and the browser test
+//! reads.
+
+use crate::frame_stats::FrameStats;
+use crate::session::{FrameOut, WebSession};
+use serde_json::{json, Value};
+
+/// What the page knows besides the session: frames drawn, since when, on what.
+#[derive(Debug, Clone, Copy)]
+pub struct PageFigures<'a> {
+    /// Frames drawn.
+    pub frames: u64,
+    /// Seconds since the page started.
+    pub seconds: f64,
+    /// The graphics adapter's name.
+    pub adapter: &'a str,
+    /// The recent frame times.
+    pub frame_stats: &'a FrameStats,
+}
+
+/// The status of `session` after the frame `last` (none before the first).
+pub fn status(session: &mut WebSession, last: Option<&FrameOut>, page: PageFigures<'_>) -> Value {
+    let pair = |v: Option<(f64, f64)>| v.map(|(m, p)| json!({ "median": m, "p95": p }));
+    let counters = session.counters();
+    let link = session.link_stats();
+    let out_reports = session.out_reports();
+    let newest = session.newest().clone();
+    let rods: Vec<Value> = session
+        .rod_inputs()
+        .rods
+        .iter()
+        .map(|r| json!([r.slide_m, r.angle_rad]))
+        .collect();
+    let physics_rods: Vec<Value> = newest
+        .rods
+        .iter()
+        .map(|r| json!([r.slide_m, r.angle_rad]))
+        .collect();
+    let controllers = session
+        .controllers()
+        .map(|c| format!("{c:?}").to_lowercase());
+    json!({
+        "frames": page.frames,
+        "seconds": page.seconds,
+        "adapter": page.adapter,
+        "frame_interval_ms": pair(page.frame_stats.interval_ms()),
+        "frame_work_ms": pair(page.frame_stats.work_ms()),
+        "board": session.board_name(),
+        "device": session.uses_device(),
+        "stage": session.stage().name(),
+        "screen": last.map(|o| o.screen.name()),
+        "paused": last.is_some_and(|o| o.paused),
+        "health": format!("{:?}", session.rod_inputs().health).to_lowercase(),
+        "match_time_s": newest.time_s,
+        "score": newest.score,
+        "ball": newest.ball.position,
+        "controllers": controllers,
+        "input_rods": rods,
+        "physics_rods": physics_rods,
+        "steps": counters.steps,
+        "dropped_steps": counters.dropped_steps,
+        "kicks": counters.kicks,
+        "goals": counters.goals,
+        "reports": {
+            "received": link.received,
+            "lost": link.lost,
+            "malformed": link.malformed,
+            "reconnects": link.reconnects,
+        },
+        "out_reports": out_reports,
+    })
+}

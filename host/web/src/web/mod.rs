@@ -1,0 +1,316 @@
+//! The page: a winit window on the page's `<canvas id="game">`, drawn by
+//! [`foosball_render::WindowRenderer`] (WebGL2), one [`WebSession::frame`] per animation
+//! frame, keys and mouse to the emulated board, and the functions the page's JavaScript
+//! calls ([`exports`]).
+//!
+//! URL parameters: `seed=N` (the first match's seed, default 1), `script=…` (scripted
+//! keys, the desktop's `--demo-input` format, seconds since the page started).
+
+mod exports;
+
+use crate::frame_stats::FrameStats;
+use crate::keyboard::Key;
+use crate::keys::map_key;
+use crate::script::Script;
+use crate::session::WebSession;
+use exports::{with_shared, Shared};
+use foosball_render::{PresentChoice, WindowRenderer};
+use space_foosball::table::Table;
+use std::sync::Arc;
+use wasm_bindgen::prelude::*;
+use winit::application::ApplicationHandler;
+use winit::event::{DeviceEvent, DeviceId, ElementState, KeyEvent, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::platform::web::{EventLoopExtWebSys, WindowAttributesExtWebSys};
+use winit::window::{CursorGrabMode, Window, WindowId};
+
+/// The page's clock, s (`performance.now()`).
+fn now_s() -> f64 {
+    web_sys::window()
+        .and_then(|w| w.performance())
+        .map_or(0.0, |p| p.now() * 1e-3)
+}
+
+/// Shows `message` in the page's `#message` element and on the console.
+fn show_message(message: &str) {
+    web_sys::console::error_1(&message.into());
+    if let Some(el) = web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.get_element_by_id("message"))
+    {
+        el.set_text_content(Some(message));
+    }
+}
+
+/// A URL parameter of the page.
+fn url_param(name: &str) -> Option<String> {
+    let search = web_sys::window()?.location().search().ok()?;
+    web_sys::UrlSearchParams::new_with_str(&search)
+        .ok()?
+        .get(name)
+}
+
+/// The page's entry point: reads the URL parameters and starts the game loop.
+#[wasm_bindgen(start)]
+pub fn start() {
+    console_error_panic_hook::set_once();
+    if let Err(e) = run() {
+        show_message(&format!("space-foosball: {e:#}"));
+    }
+}
+
+fn run() -> anyhow::Result<()> {
+    let seed = match url_param("seed") {
+        Some(s) => s
+            .parse::<u64>()
+            .map_err(|_| anyhow::anyhow!("seed={s:?} is not a whole number"))?,
+        None => 1,
+    };
+    let script: Script = match url_param("script") {
+        Some(s) => s.parse().map_err(|e| anyhow::anyhow!("script: {e}"))?,
+        None => Script::default(),
+    };
+    let session = WebSession::new(Table::standard(), seed)?;
+    let event_loop = EventLoop::new().map_err(|e| anyhow::anyhow!("no event loop: {e}"))?;
+    event_loop.set_control_flow(ControlFlow::Wait);
+    let started = now_s();
+    event_loop.spawn_app(App {
+        session,
+        script,
+        due_keys: Default::default(),
+        window: None,
+        renderer: None,
+        started,
+        frames: 0,
+        failed: false,
+        frame_stats: FrameStats::default(),
+    });
+    Ok(())
+}
+
+struct App {
+    session: WebSession,
+    script: Script,
+    due_keys: std::collections::VecDeque<(Option<KeyCode>, bool)>,
+    window: Option<Arc<Window>>,
+    renderer: Option<WindowRenderer>,
+    started: f64,
+    frames: u64,
+    failed: bool,
+    frame_stats: FrameStats,
+}
+
+impl App {
+    fn fail(&mut self, message: String) {
+        self.failed = true;
+        show_message(&message);
+        with_shared(|s| s.error = Some(message));
+    }
+
+    fn key(&mut self, code: KeyCode, pressed: bool) {
+        if pressed && code == KeyCode::Escape {
+            self.session.escape();
+            self.grab_mouse(false);
+            return;
+        }
+        if pressed && code == KeyCode::Enter && self.session.user_paused() {
+            self.session.set_user_paused(false);
+            return;
+        }
+        if let (Some(k), Some(kb)) = (map_key(code), self.session.keyboard()) {
+            kb.key(k, pressed);
+        }
+    }
+
+    fn grab_mouse(&self, grab: bool) {
+        let Some(w) = &self.window else { return };
+        let mode = if grab {
+            CursorGrabMode::Locked
+        } else {
+            CursorGrabMode::None
+        };
+        // The browser may refuse (no user gesture): not fatal.
+        let _ = w.set_cursor_grab(mode);
+        w.set_cursor_visible(!grab);
+    }
+
+    /// Takes what the page's JavaScript handed over since the last frame.
+    fn take_page_input(&mut self) {
+        let Shared {
+            reports,
+            device_events,
+            ..
+        } = with_shared(|s| Shared {
+            reports: std::mem::take(&mut s.reports),
+            device_events: std::mem::take(&mut s.device_events),
+            ..Shared::default()
+        });
+        for event in device_events {
+            match event {
+                exports::DeviceEvent::Opened(name) => {
+                    if self.session.uses_device() {
+                        self.session.device_connected(true);
+                    } else {
+                        self.session.use_device(&name);
+                    }
+                }
+                exports::DeviceEvent::Closed => self.session.device_connected(false),
+            }
+        }
+        for r in reports {
+            self.session.device_report(&r);
+        }
+    }
+
+    fn redraw(&mut self) {
+        if self.failed {
+            return;
+        }
+        let now = now_s();
+        let t = now - self.started;
+        // Scripted keys: one press or release a frame, so that a slow frame (software
+        // WebGL) never presses and releases a key before the physics has seen it held.
+        self.due_keys.extend(self.script.due(t));
+        if let Some((Some(code), pressed)) = self.due_keys.pop_front() {
+            self.key(code, pressed);
+        }
+        self.take_page_input();
+        let mut out = match self.session.frame(now) {
+            Ok(o) => o,
+            Err(e) => return self.fail(format!("space-foosball: {e:#}")),
+        };
+        if let Some(kb) = self.session.keyboard() {
+            let rod = kb.keyboard_key_number();
+            let team = format!("{:?}", kb.keyboard_team()).to_uppercase();
+            let held = kb.keyboard_rod();
+            out.hud
+                .lines
+                .insert(0, format!("KEYBOARD: {team} ROD {rod}"));
+            if out.stage == crate::flow::Stage::Playing {
+                out.snapshot.held_rods.extend(held);
+            }
+        }
+        while let Some(r) = self.session.take_out_report() {
+            with_shared(|s| s.push_out(r.to_vec()));
+        }
+        let Some(renderer) = self.renderer.as_mut() else {
+            return;
+        };
+        if let Err(e) = renderer.draw(&out.snapshot, out.screen, &out.hud, false) {
+            return self.fail(format!("space-foosball: drawing the frame: {e}"));
+        }
+        self.frames += 1;
+        let adapter = renderer.adapter().name.clone();
+        self.frame_stats.frame(now * 1e3, now_s() * 1e3);
+        let page = crate::status::PageFigures {
+            frames: self.frames,
+            seconds: t,
+            adapter: &adapter,
+            frame_stats: &self.frame_stats,
+        };
+        let status = crate::status::status(&mut self.session, Some(&out), page);
+        with_shared(|s| s.status = status.to_string());
+        if let Some(w) = &self.window {
+            w.request_redraw();
+        }
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, el: &ActiveEventLoop) {
+        if self.window.is_some() || self.failed {
+            return;
+        }
+        let canvas = web_sys::window()
+            .and_then(|w| w.document())
+            .and_then(|d| d.get_element_by_id("game"))
+            .and_then(|e| e.dyn_into::<web_sys::HtmlCanvasElement>().ok());
+        let Some(canvas) = canvas else {
+            return self.fail("space-foosball: the page has no <canvas id=\"game\">".into());
+        };
+        let (w, h) = (canvas.width().max(1), canvas.height().max(1));
+        let attrs = Window::default_attributes()
+            .with_title("Space Foosball")
+            .with_canvas(Some(canvas));
+        let window = match el.create_window(attrs) {
+            Ok(w) => Arc::new(w),
+            Err(e) => return self.fail(format!("space-foosball: no window: {e}")),
+        };
+        match WindowRenderer::new(Arc::clone(&window), w, h, PresentChoice::Vsync) {
+            Ok(r) => {
+                web_sys::console::log_1(
+                    &format!(
+                        "space-foosball: drawing on {} ({}), board: {}",
+                        r.adapter().name,
+                        r.adapter().backend,
+                        self.session.board_name()
+                    )
+                    .into(),
+                );
+                self.renderer = Some(r);
+            }
+            Err(e) => return self.fail(format!("space-foosball: {e}")),
+        }
+        window.request_redraw();
+        self.window = Some(window);
+    }
+
+    fn window_event(&mut self, _el: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::Resized(size) => {
+                if let Some(r) = &mut self.renderer {
+                    r.resize(size.width, size.height);
+                }
+            }
+            WindowEvent::KeyboardInput {
+                event:
+                    KeyEvent {
+                        physical_key: PhysicalKey::Code(code),
+                        state,
+                        repeat: false,
+                        ..
+                    },
+                ..
+            } => self.key(code, state == ElementState::Pressed),
+            WindowEvent::MouseWheel { delta, .. } => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
+                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
+                };
+                if let Some(kb) = self.session.keyboard() {
+                    kb.wheel(lines);
+                }
+            }
+            WindowEvent::MouseInput {
+                state: ElementState::Pressed,
+                ..
+            } => self.grab_mouse(true),
+            WindowEvent::Focused(false) => {
+                self.grab_mouse(false);
+                // Keys released while the page had no focus never arrive: let go of all.
+                if let Some(kb) = self.session.keyboard() {
+                    for k in [
+                        Key::SlideAway,
+                        Key::SlideNear,
+                        Key::SpinForward,
+                        Key::SpinBack,
+                        Key::Push,
+                    ] {
+                        kb.key(k, false);
+                    }
+                }
+            }
+            WindowEvent::RedrawRequested => self.redraw(),
+            _ => {}
+        }
+    }
+
+    fn device_event(&mut self, _el: &ActiveEventLoop, _id: DeviceId, event: DeviceEvent) {
+        if let DeviceEvent::MouseMotion { delta: (dx, dy) } = event {
+            if let Some(kb) = self.session.keyboard() {
+                kb.mouse_motion(dx, dy);
+            }
+        }
+    }
+}
