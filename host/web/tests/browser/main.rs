@@ -224,8 +224,9 @@ fn webhid_reports_move_the_rods_through_the_wasm_decoder_and_a_kick_sends_a_puls
 
     // Recorded motion: three paddles slide and turn, then 60 still milliseconds (the
     // tracker's prediction has returned to the measured pose by then).
-    let mut recorded = reports(0, 200, &[(0, 3, 0), (3, -2, 4), (6, 1, -3)]);
-    recorded.extend(reports(200, 60, &[]));
+    // (210 reports: within the page's queue of 250, which drops the oldest beyond.)
+    let mut recorded = reports(0, 150, &[(0, 3, 0), (3, -2, 4), (6, 1, -3)]);
+    recorded.extend(reports(150, 60, &[]));
     feed(&mut b, &recorded);
     let s = received(&mut b, recorded.len() as u64);
     let table = Table::standard();
