@@ -15,7 +15,9 @@ use crate::image::RgbaImage;
 use crate::scene::{self, Hud, Screen};
 use crate::view::FrameSnapshot;
 use crate::{RenderError, Renderer};
-use std::time::Instant;
+// web-time: std's Instant on native targets, the page's clock in a browser (std's
+// panics on wasm32).
+use web_time::Instant;
 
 /// How frames reach the screen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
