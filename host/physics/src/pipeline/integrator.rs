@@ -461,28 +461,15 @@ fn midpoint_iteration(x: &mut V3, p0: &V3, inv_i: &V3, h: f64) -> f64 {
 
 /// Semi-implicit Euler velocity stage (the engine's step before part 3, unchanged).
 fn symplectic_velocities(b: &mut BodySet, h: f64, f: &FreeForces) {
-    let g = f.gravity;
-    for i in 0..b.len() {
-        if !b.awake[i] {
-            continue;
+    free_velocities(b, h, f, |b, i| {
+        let (r, tq) = (b.rot[i], b.torque[i]);
+        let wl = r.tr_mul(&b.omega[i]);
+        let mut t = r.tr_mul(&tq);
+        if f.gyroscopic {
+            t -= wl.cross(&b.inertia[i].component_mul(&wl));
         }
-        let im = b.inv_mass[i];
-        b.vel[i] += (g + b.force[i] * im) * h;
-        let tq = b.torque[i];
-        if f.gyroscopic || tq != V3::zeros() {
-            let r = b.rot[i];
-            let wl = r.tr_mul(&b.omega[i]);
-            let mut t = r.tr_mul(&tq);
-            if f.gyroscopic {
-                t -= wl.cross(&b.inertia[i].component_mul(&wl));
-            }
-            b.omega[i] += r * b.inv_inertia[i].component_mul(&t) * h;
-        }
-        if let Some((ld, ad)) = f.damping {
-            b.vel[i] *= ld;
-            b.omega[i] *= ad;
-        }
-    }
+        b.omega[i] + r * b.inv_inertia[i].component_mul(&t) * h
+    });
 }
 
 /// Semi-implicit Euler with Catto's implicit gyroscopic term (the default velocity stage):
@@ -492,6 +479,27 @@ fn symplectic_velocities(b: &mut BodySet, h: f64, f: &FreeForces) {
 /// torque nor the gyroscopic term keeps its angular velocity untouched (no round trip through
 /// the body frame), so such scenes cost what semi-implicit Euler costs.
 fn implicit_gyroscopic_velocities(b: &mut BodySet, h: f64, f: &FreeForces) {
+    free_velocities(b, h, f, |b, i| {
+        let (r, tq) = (b.rot[i], b.torque[i]);
+        let mut wb = r.tr_mul(&b.omega[i]) + b.inv_inertia[i].component_mul(&r.tr_mul(&tq)) * h;
+        if f.gyroscopic {
+            wb = implicit_gyroscopic(&wb, &b.inertia[i], h);
+        }
+        r * wb
+    });
+}
+
+/// The velocity stage both semi-implicit steps share: for every awake body, gravity and the
+/// applied force on the linear velocity; `angular(b, i)` gives the new world angular velocity
+/// (rad/s) when the body has a torque or the gyroscopic effect is on (otherwise it keeps its
+/// own); then the damping.
+#[inline]
+fn free_velocities(
+    b: &mut BodySet,
+    h: f64,
+    f: &FreeForces,
+    angular: impl Fn(&BodySet, usize) -> V3,
+) {
     let g = f.gravity;
     for i in 0..b.len() {
         if !b.awake[i] {
@@ -499,14 +507,8 @@ fn implicit_gyroscopic_velocities(b: &mut BodySet, h: f64, f: &FreeForces) {
         }
         let im = b.inv_mass[i];
         b.vel[i] += (g + b.force[i] * im) * h;
-        let tq = b.torque[i];
-        if f.gyroscopic || tq != V3::zeros() {
-            let r = b.rot[i];
-            let mut wb = r.tr_mul(&b.omega[i]) + b.inv_inertia[i].component_mul(&r.tr_mul(&tq)) * h;
-            if f.gyroscopic {
-                wb = implicit_gyroscopic(&wb, &b.inertia[i], h);
-            }
-            b.omega[i] = r * wb;
+        if f.gyroscopic || b.torque[i] != V3::zeros() {
+            b.omega[i] = angular(b, i);
         }
         if let Some((ld, ad)) = f.damping {
             b.vel[i] *= ld;
