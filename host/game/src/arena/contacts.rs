@@ -24,7 +24,7 @@
 use super::build::BodyRole;
 use crate::rules::{Contact, ContactWith};
 use virtual_physics::geometry::V3;
-use virtual_physics::pipeline::World;
+use virtual_physics::pipeline::{BodyHandle, World};
 
 /// The ball's state at the start of a step (body frame origin = centre), table frame.
 #[derive(Debug, Clone, Copy)]
@@ -46,29 +46,27 @@ fn contact_with(role: BodyRole) -> Option<ContactWith> {
     }
 }
 
-/// The ball's contacts of the last step of `world`, for a ball of body index `ball` and
-/// mass `ball_mass_kg`, `roles` by body index. Order: field, wall, rods by index.
+/// The ball's contacts of the last step of `world`, for the ball `ball` of mass
+/// `ball_mass_kg`; `roles` by body storage index, `handles` the bodies in that order. Order:
+/// field, wall, rods by index.
 pub fn ball_contacts(
     world: &World,
     roles: &[BodyRole],
-    ball: usize,
+    handles: &[BodyHandle],
+    ball: BodyHandle,
     before: &BallBefore,
     ball_mass_kg: f64,
 ) -> Vec<Contact> {
     let mut out: Vec<Contact> = Vec::with_capacity(4);
-    // Storage index of each body handle (the roles are by storage index).
-    let index: std::collections::HashMap<_, usize> = world
-        .body_handles()
-        .enumerate()
-        .map(|(i, h)| (h, i))
-        .collect();
     for m in world.contacts() {
-        let (a, b) = (index[&m.a], index[&m.b]);
-        let (other, ball_is_b) = if b == ball {
-            (a, true)
-        } else if a == ball {
-            (b, false)
+        let (other, ball_is_b) = if m.b == ball {
+            (m.a, true)
+        } else if m.a == ball {
+            (m.b, false)
         } else {
+            continue;
+        };
+        let Some(other) = handles.iter().position(|&h| h == other) else {
             continue;
         };
         let impulse = m.max_normal_impulse();

@@ -202,6 +202,8 @@ pub struct Arena {
     ball: BodyHandle,
     /// The ball's storage index (as the manifolds name it).
     ball_index: usize,
+    /// Every body's handle, by storage index (the order of `roles`).
+    handles: Vec<BodyHandle>,
     /// Where each rod is asked to go.
     targets: Vec<RodTarget>,
     /// The servos' targets of the last step.
@@ -247,10 +249,8 @@ impl Arena {
             .settings(solver)
             .build();
         let built = build::build(table, &settings, &mut world)?;
-        let ball_index = world
-            .body_handles()
-            .position(|h| h == built.ball)
-            .unwrap_or(0);
+        let handles: Vec<BodyHandle> = world.body_handles().collect();
+        let ball_index = handles.iter().position(|&h| h == built.ball).unwrap_or(0);
         let drives = table
             .rods
             .iter()
@@ -270,6 +270,7 @@ impl Arena {
             drives,
             ball: built.ball,
             ball_index,
+            handles,
             targets: vec![RodTarget::default(); n],
             motor_targets: vec![RodTarget::default(); n],
             steps: 0,
@@ -330,7 +331,8 @@ impl Arena {
         let contacts = contacts::ball_contacts(
             &self.world,
             &self.roles,
-            self.ball_index,
+            &self.handles,
+            self.ball,
             &before,
             self.table.ball.mass_kg,
         );

@@ -4,7 +4,9 @@
 //! Each rod is one link on a cylindrical joint from the table to the rod (paper §5.1): the
 //! joint frame sits on the rod axis at the rod's `x` and height, its axis along the table's
 //! `+y`; coordinate 0 is the angle about `+y` (rad, 0 = feet down), coordinate 1 the slide
-//! along `+y` (m, 0 = centred). The link carries the steel bar (a cylinder) and every man's
+//! along `+y` (m, 0 = centred). The link carries the steel bar (a capsule: its rounded ends
+//! lie in or beyond the side walls at every slide, where the ball never reaches, and the
+//! engine tests a capsule against the walls' boxes in closed form) and every man's
 //! shapes ([`super::build::man_shapes`]) — several shapes on one link make it a compound
 //! body; each man hangs from his shoulder on the rod axis. The link's mass and inertia are
 //! the bar's and the men's, summed by [`Compound::new`].
@@ -53,9 +55,9 @@ fn parts(table: &Table, rod: usize, man: Material) -> Vec<PartDesc> {
         * 2.0
         * half;
     let mut out = vec![PartDesc {
-        shape: Shape::Cylinder {
+        shape: Shape::Capsule {
             radius: ROD_RADIUS_M,
-            half_height: half,
+            half_height: half - ROD_RADIUS_M,
         },
         pose: SE3::new(super::build::z_to_y_rotation(), Vec3::zeros()),
         mass: bar_mass,

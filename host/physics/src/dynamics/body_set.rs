@@ -198,6 +198,25 @@ impl BodySet {
         }
     }
 
+    /// Whether body `i` stands for a link of an articulated tree: posed by the tree's
+    /// kinematics at the start and end of each step, never integrated on its own.
+    pub(crate) fn is_link_proxy(&self, i: usize) -> bool {
+        self.kind[i] == BodyKind::Kinematic && self.responds[i]
+    }
+
+    /// How fast any point of body `i` moves (m/s): its velocity plus its angular velocity
+    /// times its shape's reach from the spin axis through its centre.
+    pub(crate) fn sweep_speed(&self, i: usize) -> f64 {
+        let w = self.omega[i];
+        let wn = w.norm();
+        let turn = if wn > 0.0 {
+            wn * self.shape[i].reach_about(&(self.rot[i].tr_mul(&w) / wn))
+        } else {
+            0.0
+        };
+        self.vel[i].norm() + turn
+    }
+
     /// Kinetic energy `½ m v² + ½ ωᵀ I ω` of the dynamic bodies (J).
     pub(crate) fn kinetic_energy(&self) -> f64 {
         let mut e = 0.0;

@@ -65,6 +65,9 @@ pub(crate) fn spd_inverse<T: Real>(
     n: usize,
     inv: &mut [T],
 ) -> Result<(), CholeskyError> {
+    if n == 2 {
+        return spd_inverse2(a, inv);
+    }
     if n == 3 {
         return spd_inverse3(a, inv);
     }
@@ -77,6 +80,21 @@ pub(crate) fn spd_inverse<T: Real>(
             inv[i * n + j] = col[i];
         }
     }
+    Ok(())
+}
+
+/// Closed-form inverse of a symmetric positive-definite 2×2, with Sylvester's test.
+fn spd_inverse2<T: Real>(a: &[T], inv: &mut [T]) -> Result<(), CholeskyError> {
+    let (a00, a01, a11) = (a[0], a[1], a[3]);
+    let det = a00 * a11 - a01 * a01;
+    if !(a00 > T::zero() && det > T::zero()) {
+        return Err(CholeskyError(0));
+    }
+    let r = T::one() / det;
+    inv[0] = a11 * r;
+    inv[1] = -a01 * r;
+    inv[2] = inv[1];
+    inv[3] = a00 * r;
     Ok(())
 }
 

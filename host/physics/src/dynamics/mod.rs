@@ -28,6 +28,7 @@ pub use body_set::BodyKind;
 pub(crate) use body_set::BodySet;
 pub use crba::mass_matrix;
 pub use error::DynamicsError;
+pub(crate) use linalg::spd_inverse;
 pub use linalg::{cholesky_solve, CholeskyError};
 pub use rnea::rnea;
 pub use workspace::Workspace;

@@ -1,11 +1,18 @@
 //! Broad phase: a uniform grid hashed by cell, rebuilt each step without allocating (the
 //! buffers keep their capacity). Half-spaces and bodies whose box covers too many cells are
-//! tested against every other body instead.
+//! tested against every other body instead. A world of at most [`ALL_PAIRS_BODIES`] bodies
+//! (a foosball table: 36) tests every pair directly, which costs less than hashing and
+//! sorting the grid's cells.
 //!
 //! Each candidate pair is reported once: only in the cell holding the lower corner of the two
 //! boxes' intersection. Output: sorted pair keys `a << 32 | b`, `a < b`.
 
 use super::{Aabb, CollisionBodies, Shape};
+
+/// Worlds of at most this many bodies test all pairs: 2 016 box tests of a few ns each,
+/// against the grid's hashing and sorting of every cell a body covers (a foosball table's
+/// rods span the field and cover some 40 cells each).
+pub const ALL_PAIRS_BODIES: usize = 64;
 
 /// Most cells one body may cover before it is treated as oversized.
 const MAX_CELLS_PER_BODY: i64 = 64;
@@ -26,7 +33,24 @@ pub struct BroadPhase {
 /// only adds candidates, which the box test then rejects.
 #[inline]
 fn cell_of(x: f64, inv: f64) -> i64 {
-    (x * inv).floor() as i64
+    floor(x * inv) as i64
+}
+
+/// `x.floor()` without the library call that baseline x86-64 makes of it (no SSE4.1
+/// rounding instruction): through an integer below 2⁵³, the library's own beyond that and
+/// for NaN, so a NaN box still fails the cell count.
+#[inline]
+fn floor(x: f64) -> f64 {
+    if x.abs() < 9.0e15 {
+        let t = x as i64 as f64;
+        if t > x {
+            t - 1.0
+        } else {
+            t
+        }
+    } else {
+        x.floor()
+    }
 }
 
 /// The lowest and highest cells a box covers, or `None` when it covers more than
@@ -37,7 +61,7 @@ fn cell_of(x: f64, inv: f64) -> i64 {
 fn cell_range(b: &Aabb, inv: f64) -> Option<([i64; 3], [i64; 3])> {
     let mut cells = 1.0;
     for k in 0..3 {
-        cells *= (b.max[k] * inv).floor() - (b.min[k] * inv).floor() + 1.0;
+        cells *= floor(b.max[k] * inv) - floor(b.min[k] * inv) + 1.0;
     }
     // NaN fails both comparisons.
     if !(cells >= 1.0 && cells <= MAX_CELLS_PER_BODY as f64) {
@@ -90,6 +114,9 @@ impl BroadPhase {
         self.entries.clear();
         self.oversized.clear();
         self.pairs.clear();
+        if bodies.len() <= ALL_PAIRS_BODIES {
+            return self.all_pairs(bodies, excluded);
+        }
         let inv = 1.0 / self.cell;
         for i in 0..bodies.len() {
             if bodies.shape[i].is_half_space() {
@@ -168,6 +195,30 @@ impl BroadPhase {
         tests
     }
 
+    /// Every pair tested directly; keys come out in order.
+    fn all_pairs(&mut self, bodies: &CollisionBodies<'_>, excluded: &[u64]) -> usize {
+        let mut tests = 0;
+        for a in 0..bodies.len() {
+            for b in a + 1..bodies.len() {
+                if !Self::wanted(bodies, a, b) {
+                    continue;
+                }
+                tests += 1;
+                let hit = if bodies.shape[a].is_half_space() {
+                    half_space_overlaps(bodies, a, &bodies.aabb[b])
+                } else if bodies.shape[b].is_half_space() {
+                    half_space_overlaps(bodies, b, &bodies.aabb[a])
+                } else {
+                    bodies.aabb[a].overlaps(&bodies.aabb[b])
+                };
+                if hit {
+                    self.push_pair(a, b, excluded);
+                }
+            }
+        }
+        tests
+    }
+
     #[inline]
     fn wanted(bodies: &CollisionBodies<'_>, a: usize, b: usize) -> bool {
         (bodies.responds[a] || bodies.responds[b]) && (bodies.awake[a] || bodies.awake[b])
@@ -198,6 +249,85 @@ fn half_space_overlaps(bodies: &CollisionBodies<'_>, h: usize, b: &Aabb) -> bool
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The grid finds exactly the overlapping pairs that testing every pair finds, on a
+    /// scattered world too large for the all-pairs path (boxes of mixed sizes, a ground
+    /// half-space, some bodies static or asleep).
+    #[test]
+    fn the_grid_finds_the_pairs_that_testing_every_pair_finds() {
+        let n = 3 * ALL_PAIRS_BODIES;
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut shape = vec![Shape::HalfSpace { normal: V3::z() }];
+        let mut aabbs = vec![Aabb {
+            min: V3::repeat(f64::NEG_INFINITY),
+            max: V3::repeat(f64::INFINITY),
+        }];
+        for _ in 1..n {
+            let c = V3::new(next() * 2.0, next() * 2.0, next() * 0.5 - 0.1);
+            let half = V3::repeat(0.02 + 0.2 * next() * next());
+            shape.push(Shape::Cuboid { half });
+            aabbs.push(Aabb {
+                min: c - half,
+                max: c + half,
+            });
+        }
+        let rot = vec![crate::geometry::M3::identity(); n];
+        let pos = vec![V3::zeros(); n];
+        let awake: Vec<bool> = (0..n).map(|i| i > 0 && i % 5 != 0).collect();
+        let responds: Vec<bool> = (0..n).map(|i| i > 0 && i % 7 != 0).collect();
+        let bodies = CollisionBodies {
+            shape: &shape,
+            rot: &rot,
+            pos: &pos,
+            aabb: &aabbs,
+            awake: &awake,
+            responds: &responds,
+        };
+        let excluded = [(3u64 << 32) | 4];
+        let mut grid = BroadPhase::new(&shape);
+        grid.update(&bodies, &excluded);
+        let mut every = BroadPhase::new(&shape);
+        every.all_pairs(&bodies, &excluded);
+        assert!(every.pairs.len() > n, "the world is crowded enough to test");
+        assert_eq!(grid.pairs, every.pairs);
+    }
+
+    #[test]
+    fn the_fast_floor_is_the_library_floor() {
+        let mut xs = vec![
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            0.5,
+            -0.5,
+            2.0 - 1e-15,
+            -2.0 + 1e-15,
+            1e15,
+            -1e15,
+        ];
+        xs.extend([
+            9.5e15,
+            -9.5e15,
+            1e300,
+            -1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ]);
+        for k in 0..2000 {
+            xs.push((k as f64 - 1000.0) * 0.37);
+        }
+        for x in xs {
+            assert_eq!(floor(x), x.floor(), "floor({x})");
+        }
+        assert!(floor(f64::NAN).is_nan());
+    }
     use crate::geometry::V3;
 
     fn aabb(min: [f64; 3], max: [f64; 3]) -> Aabb {

@@ -30,7 +30,7 @@ pub use collision_bodies::CollisionBodies;
 pub use compound::{Compound, CompoundError, CompoundMass, Part, PartDesc};
 pub use contact::{ContactPoint, Manifold, MAX_MANIFOLD_POINTS};
 pub use material::Material;
-pub use narrow_phase::NarrowPhase;
+pub use narrow_phase::{BodyMotion, NarrowPhase};
 pub use shape::{Aabb, Shape};
 pub use toi::{sphere_cast, Impact};
 

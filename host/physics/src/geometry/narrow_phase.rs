@@ -12,7 +12,7 @@
 
 use super::box_box::{box_box, BoxPose};
 use super::primitives as p;
-use super::{CollisionBodies, Manifold, Shape, M3, V3};
+use super::{Aabb, CollisionBodies, Manifold, Shape, M3, V3};
 
 /// Anchors closer than this (m, body A frame) are the same contact point across steps.
 pub const MATCH_DISTANCE: f64 = 0.05;
@@ -36,6 +36,119 @@ pub struct NarrowPhase {
     /// Manifolds of the last update, sorted by pair key.
     pub manifolds: Vec<Manifold>,
     old: Vec<Manifold>,
+    /// The compounds' parts posed in the world for the current update.
+    posed: PosedParts,
+}
+
+/// A compound's part posed in the world, with its box.
+#[derive(Clone, Copy, Debug)]
+struct PosedBox {
+    index: u16,
+    rot: M3,
+    pos: V3,
+    aabb: Aabb,
+    /// How far the part can move over the step (m).
+    sweep: f64,
+    /// A half-space's world normal and offset `n · x ≤ offset` (its box is all of space).
+    plane: Option<(V3, f64)>,
+}
+
+/// The bodies' velocities over the step, for the margins of continuous collision.
+#[derive(Clone, Copy, Debug)]
+pub struct BodyMotion<'a> {
+    /// The step (s).
+    pub dt: f64,
+    /// Velocity of each body's origin, world (m/s).
+    pub vel: &'a [V3],
+    /// Angular velocity of each body, world (rad/s).
+    pub omega: &'a [V3],
+}
+
+impl BodyMotion<'_> {
+    /// How far any point within `radius` of world point `centre` on body `i` moves over the
+    /// step (m): `dt (|v + ω × (centre − origin)| + |ω| radius)`.
+    pub fn sweep(&self, bodies: &CollisionBodies<'_>, i: usize, centre: &V3, radius: f64) -> f64 {
+        let (v, w) = (self.vel[i], self.omega[i]);
+        self.dt * ((v + w.cross(&(centre - bodies.pos[i]))).norm() + w.norm() * radius)
+    }
+}
+
+impl PosedBox {
+    /// Whether the two parts' boxes come within `margin` (m) of each other; against a
+    /// half-space, whether the other box comes within `margin` of its plane.
+    fn meets(&self, other: &PosedBox, margin: f64) -> bool {
+        let below = |(n, offset): (V3, f64), b: &Aabb| {
+            let c = (b.min + b.max) * 0.5;
+            let e = (b.max - b.min) * 0.5;
+            n.dot(&c) - n.abs().dot(&e) <= offset + margin
+        };
+        match (self.plane, other.plane) {
+            (Some(p), _) => below(p, &other.aabb),
+            (None, Some(p)) => below(p, &self.aabb),
+            (None, None) => self.aabb.loosened(margin).overlaps(&other.aabb),
+        }
+    }
+
+    fn posed<'a>(&self, shape: &'a Shape) -> PosedPart<'a> {
+        PosedPart {
+            index: self.index,
+            shape: part_shape(shape, self.index),
+            rot: self.rot,
+            pos: self.pos,
+        }
+    }
+}
+
+/// Posed parts of the bodies met so far in one update: body `i`'s are
+/// `parts[range[i].0..range[i].1]`, posed on first use.
+#[derive(Clone, Debug, Default)]
+struct PosedParts {
+    range: Vec<(u32, u32)>,
+    parts: Vec<PosedBox>,
+}
+
+/// A body whose parts are not posed yet in this update.
+const NOT_POSED: (u32, u32) = (u32::MAX, u32::MAX);
+
+impl PosedParts {
+    fn reset(&mut self, bodies: usize) {
+        self.range.clear();
+        self.range.resize(bodies, NOT_POSED);
+        self.parts.clear();
+    }
+
+    /// The index range of body `i`'s posed parts, posing them first if needed;
+    /// `sweep(i, centre, radius)` is how far a part of body `i` moves over the step (m).
+    fn parts_of(
+        &mut self,
+        bodies: &CollisionBodies<'_>,
+        i: usize,
+        sweep: &impl Fn(usize, &V3, f64) -> f64,
+    ) -> std::ops::Range<usize> {
+        if self.range[i] == NOT_POSED {
+            let start = self.parts.len() as u32;
+            let parts = &mut self.parts;
+            for_each_part(bodies, i, |p| {
+                parts.push(PosedBox {
+                    index: p.index,
+                    rot: p.rot,
+                    pos: p.pos,
+                    aabb: p.shape.aabb(&p.rot, &p.pos),
+                    sweep: sweep(i, &p.pos, p.shape.bounding_radius()),
+                    plane: match *p.shape {
+                        Shape::HalfSpace { normal } => {
+                            let n = p.rot * normal;
+                            Some((n, n.dot(&p.pos)))
+                        }
+                        _ => None,
+                    },
+                });
+            });
+            self.range[i] = (start, self.parts.len() as u32);
+        }
+        let (s, e) = self.range[i];
+        s as usize..e as usize
+    }
 }
 
 fn rank(s: &Shape) -> u8 {
@@ -190,6 +303,14 @@ struct PosedPart<'a> {
     pos: V3,
 }
 
+/// Part `index` of a shape: a compound's part, or the shape itself.
+fn part_shape(shape: &Shape, index: u16) -> &Shape {
+    match shape {
+        Shape::Compound(c) => &c.parts()[index as usize].shape,
+        s => s,
+    }
+}
+
 /// Calls `f` with each primitive of body `i`: the shape itself, or each part of a compound.
 #[inline]
 fn for_each_part(bodies: &CollisionBodies<'_>, i: usize, mut f: impl FnMut(PosedPart<'_>)) {
@@ -215,16 +336,26 @@ fn for_each_part(bodies: &CollisionBodies<'_>, i: usize, mut f: impl FnMut(Posed
 }
 
 impl NarrowPhase {
-    /// Recomputes the manifolds of `pairs` (sorted keys). `margin(a, b)` is the speculative
-    /// distance (m) of a pair: contacts up to that separation are kept.
+    /// Recomputes the manifolds of `pairs` (sorted keys). Contacts up to the speculative
+    /// distance `speculative` (m) are kept; with `motion` (continuous collision) a pair's
+    /// distance grows by how far each side can move over the step: for each part of a
+    /// compound, by its own motion (a rod's bar spinning in its wall slot moves by the bar's
+    /// radius times the turn, not by its men's reach).
     pub fn update(
         &mut self,
         bodies: &CollisionBodies<'_>,
         pairs: &[u64],
-        margin: impl Fn(usize, usize) -> f64,
+        speculative: f64,
+        motion: Option<BodyMotion<'_>>,
     ) -> NarrowCounts {
         std::mem::swap(&mut self.manifolds, &mut self.old);
         self.manifolds.clear();
+        self.posed.reset(bodies.len());
+        let sweep = |i: usize, centre: &V3, radius: f64| {
+            motion
+                .as_ref()
+                .map_or(0.0, |m| m.sweep(bodies, i, centre, radius))
+        };
         let mut counts = NarrowCounts::default();
         let mut oi = 0;
         for &k in pairs {
@@ -245,10 +376,12 @@ impl NarrowPhase {
                 }
                 continue;
             }
-            let margin = margin(a, b);
             let compound = matches!(bodies.shape[a], Shape::Compound(_))
                 || matches!(bodies.shape[b], Shape::Compound(_));
             if !compound {
+                let margin = speculative
+                    + sweep(a, &bodies.pos[a], bodies.shape[a].bounding_radius())
+                    + sweep(b, &bodies.pos[b], bodies.shape[b].bounding_radius());
                 let pa = PosedPart {
                     index: 0,
                     shape: &bodies.shape[a],
@@ -267,20 +400,36 @@ impl NarrowPhase {
                 continue;
             }
             // Compound pair: every part of A against every part of B whose boxes overlap,
-            // in part-key order (A's part, then B's).
-            let manifolds = &mut self.manifolds;
-            for_each_part(bodies, a, |pa| {
-                let box_a = pa.shape.aabb(&pa.rot, &pa.pos).loosened(margin);
-                for_each_part(bodies, b, |pb| {
-                    if !box_a.overlaps(&pb.shape.aabb(&pb.rot, &pb.pos)) {
-                        return;
+            // in part-key order (A's part, then B's). Each compound's parts are posed and
+            // boxed once per update, whatever number of pairs it is in, and a part of A that
+            // misses B's box is skipped (a rod's sixteen parts against the field meet only
+            // at the men's feet).
+            // B's box holds each of its parts grown by the speculative distance and the
+            // part's motion, so a part of A grown by its own motion that misses it is out
+            // of reach of every part of B.
+            let body_b = bodies.aabb[b];
+            let (ra, rb) = (
+                self.posed.parts_of(bodies, a, &sweep),
+                self.posed.parts_of(bodies, b, &sweep),
+            );
+            let parts = &self.posed.parts;
+            for posed_a in &parts[ra] {
+                if !posed_a.aabb.loosened(posed_a.sweep).overlaps(&body_b) {
+                    continue;
+                }
+                let pa = posed_a.posed(&bodies.shape[a]);
+                for posed_b in &parts[rb.clone()] {
+                    let margin = speculative + posed_a.sweep + posed_b.sweep;
+                    if !posed_a.meets(posed_b, margin) {
+                        continue;
                     }
+                    let pb = posed_b.posed(&bodies.shape[b]);
                     if let Some(m) = Self::contact(bodies, a, &pa, b, &pb, margin, old, &mut counts)
                     {
-                        manifolds.push(m);
+                        self.manifolds.push(m);
                     }
-                });
-            });
+                }
+            }
         }
         counts
     }

@@ -197,6 +197,22 @@ impl Shape {
         }
     }
 
+    /// How far the shape reaches from the line through its centre along the unit `axis`
+    /// (body frame, m): a point of the shape moves by at most this times the turn when the
+    /// body turns about that line. A compound's parts count by their distance from the line
+    /// (a foosball rod spinning about its bar sweeps its men's reach, not its length); other
+    /// shapes give their bounding radius.
+    pub fn reach_about(&self, axis: &V3) -> f64 {
+        match self {
+            Shape::Compound(c) => c
+                .parts()
+                .iter()
+                .map(|p| (p.pos - axis * axis.dot(&p.pos)).norm() + p.shape.bounding_radius())
+                .fold(0.0, f64::max),
+            s => s.bounding_radius(),
+        }
+    }
+
     /// The smallest half-dimension (m): how thin the shape is (for continuous collision).
     pub fn thinness(&self) -> f64 {
         match *self {

@@ -17,6 +17,7 @@
 mod implicit_step;
 
 use super::integrator::dexp_inv_right;
+use super::inverse_mass::InverseMassCache;
 use super::IntegratorKind;
 use crate::algebra::{exp_so3, log_so3, se3, Vec3, SE3};
 use crate::dynamics::{aba, DynamicsError, Workspace};
@@ -61,6 +62,8 @@ pub struct ArticulatedSystem {
     /// The model.
     pub(crate) tree: ArticulatedTree<f64>,
     ws: Workspace<f64>,
+    /// `M(q)⁻¹` of a small tree, for the rows' responses.
+    inverse_mass: InverseMassCache,
     /// Factors of the linearly implicit velocity update.
     iws: ImplicitWorkspace,
     /// Configuration.
@@ -77,6 +80,8 @@ pub struct ArticulatedSystem {
     pub(crate) drives: Vec<super::drives::Drive>,
     qdd: Vec<f64>,
     joints: Vec<(Chart, usize, usize)>,
+    /// Per velocity coordinate, its configuration coordinate when the joint moves additively.
+    additive_q: Vec<Option<usize>>,
     /// Prescribed coordinate changes of the current implicit step, `(coordinate, Δq̇)`.
     given: Vec<(usize, f64)>,
     /// The impulses those changes took (N·s or N·m·s).
@@ -101,7 +106,7 @@ impl ArticulatedSystem {
         let iws = ImplicitWorkspace::new(&tree);
         let nv = tree.nv();
         let nq = tree.nq();
-        let joints = tree
+        let joints: Vec<(Chart, usize, usize)> = tree
             .bodies()
             .iter()
             .map(|b| {
@@ -114,10 +119,19 @@ impl ArticulatedSystem {
                 (chart, b.q_offset, b.v_offset)
             })
             .collect();
+        let mut additive_q = vec![None; nv];
+        for &(chart, qo, vo) in &joints {
+            if let Chart::Additive(n) = chart {
+                for k in 0..n {
+                    additive_q[vo + k] = Some(qo + k);
+                }
+            }
+        }
         let z = || vec![0.0; nv];
         Self {
             tree,
             ws,
+            inverse_mass: InverseMassCache::default(),
             iws,
             q,
             qd,
@@ -127,6 +141,7 @@ impl ArticulatedSystem {
             drives: Vec::new(),
             qdd: vec![0.0; nv],
             joints,
+            additive_q,
             given: Vec::new(),
             given_impulses: Vec::new(),
             q0: vec![0.0; nq],
@@ -546,6 +561,12 @@ impl ArticulatedSystem {
     /// World angular velocity and world velocity of each link frame's origin (rad/s, m/s) at
     /// the current `q`, `q̇`, for the given link `poses`.
     pub(crate) fn link_velocities(&self, poses: &[SE3<f64>]) -> Vec<(V3, V3)> {
+        self.link_velocities_at(poses, &self.qd)
+    }
+
+    /// [`link_velocities`](Self::link_velocities) for the generalised velocity `qd` instead of
+    /// the tree's own.
+    pub(crate) fn link_velocities_at(&self, poses: &[SE3<f64>], qd: &[f64]) -> Vec<(V3, V3)> {
         let mut out: Vec<(V3, V3)> = Vec::with_capacity(poses.len());
         let mut s = [se3::zeros(); 6];
         for (k, b) in self.tree.bodies().iter().enumerate() {
@@ -560,7 +581,7 @@ impl ArticulatedSystem {
             b.joint.motion_subspace(qs, &mut s[..b.nv()]);
             let r = &poses[k].r;
             for (c, col) in s[..b.nv()].iter().enumerate() {
-                let qd = self.qd[b.v_offset + c];
+                let qd = qd[b.v_offset + c];
                 w += r * col.w * qd;
                 v += r * col.v * qd;
             }
@@ -569,17 +590,19 @@ impl ArticulatedSystem {
         out
     }
 
-    /// The row `J` (length `nv`) with `J q̇ = d · (velocity of the point of link `link` at
-    /// world point `p`)`, for link `poses` at the current `q`.
-    pub(crate) fn point_jacobian(
+    /// The world velocity of the point of link `link` at world point `p` per velocity
+    /// coordinate, for link `poses` at the current `q`: `out[c]` (m/s per unit of `q̇_c`),
+    /// zero for coordinates that do not move the link. The row along a direction `d` is
+    /// `J_c = d · out[c]` (`J q̇` = the point's velocity along `d`).
+    pub(crate) fn point_velocity_jacobian(
         &self,
         poses: &[SE3<f64>],
         link: usize,
         p: &V3,
-        d: &V3,
-        out: &mut [f64],
+        out: &mut Vec<V3>,
     ) {
-        out.iter_mut().for_each(|x| *x = 0.0);
+        out.clear();
+        out.resize(self.qd.len(), V3::zeros());
         let mut s = [se3::zeros(); 6];
         let bodies = self.tree.bodies();
         let mut k = Some(link);
@@ -589,21 +612,27 @@ impl ArticulatedSystem {
             b.joint.motion_subspace(qs, &mut s[..b.nv()]);
             let (r, t): (&M3, &V3) = (&poses[a].r, &poses[a].p);
             let arm = p - t;
-            let arm_x_d = arm.cross(d);
             for (c, col) in s[..b.nv()].iter().enumerate() {
-                out[b.v_offset + c] = d.dot(&(r * col.v)) + arm_x_d.dot(&(r * col.w));
+                out[b.v_offset + c] = r * col.v + (r * col.w).cross(&arm);
             }
             k = b.parent;
         }
     }
 
-    /// `out = M(q)⁻¹ tau`: the change of `q̇` for a generalised impulse `tau` (ABA at zero
-    /// velocity and zero gravity, O(n)).
+    /// `out = M(q)⁻¹ tau`: the change of `q̇` for a generalised impulse `tau`. A small tree
+    /// multiplies by its dense inverse, formed once per configuration
+    /// (`pipeline/inverse_mass.rs`); a larger one runs ABA at zero velocity and zero gravity,
+    /// O(n).
     pub(crate) fn apply_inverse_mass(
         &mut self,
         tau: &[f64],
         out: &mut [f64],
     ) -> Result<(), DynamicsError> {
+        if InverseMassCache::applies(self.qd.len()) {
+            return self
+                .inverse_mass
+                .apply(&self.tree, &mut self.ws, &self.q, tau, out);
+        }
         let g = self.tree.gravity();
         self.tree.set_gravity(Vec3::zeros());
         let zero = std::mem::take(&mut self.stage_qd);
@@ -637,9 +666,6 @@ impl ArticulatedSystem {
     /// The configuration coordinate of velocity coordinate `k`, for joints whose coordinates
     /// move additively (revolute, prismatic, cylindrical, universal); `None` otherwise.
     pub(crate) fn q_of_dof(&self, k: usize) -> Option<f64> {
-        self.joints.iter().find_map(|&(chart, qo, vo)| match chart {
-            Chart::Additive(n) if (vo..vo + n).contains(&k) => Some(self.q[qo + k - vo]),
-            _ => None,
-        })
+        self.additive_q.get(k).copied().flatten().map(|i| self.q[i])
     }
 }

@@ -370,7 +370,7 @@ impl FreeIntegrator {
             for i in 0..b.len() {
                 let moving = match b.kind[i] {
                     BodyKind::Dynamic => b.awake[i],
-                    BodyKind::Kinematic => b.omega[i] != V3::zeros(),
+                    BodyKind::Kinematic => b.omega[i] != V3::zeros() && !b.is_link_proxy(i),
                     BodyKind::Fixed => false,
                 };
                 if moving {
@@ -389,7 +389,7 @@ impl FreeIntegrator {
                 for i in 0..b.len() {
                     match b.kind[i] {
                         BodyKind::Dynamic if b.awake[i] => self.body_position(kind, b, i, h),
-                        BodyKind::Kinematic => lie_group_euler_body(b, i, h),
+                        BodyKind::Kinematic if !b.is_link_proxy(i) => lie_group_euler_body(b, i, h),
                         _ => {}
                     }
                 }
@@ -540,7 +540,7 @@ fn lie_group_euler_positions(b: &mut BodySet, h: f64) {
     for i in 0..b.len() {
         let moving = match b.kind[i] {
             BodyKind::Dynamic => b.awake[i],
-            BodyKind::Kinematic => true,
+            BodyKind::Kinematic => !b.is_link_proxy(i),
             BodyKind::Fixed => false,
         };
         if moving {

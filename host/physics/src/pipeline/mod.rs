@@ -17,6 +17,7 @@ mod drives;
 pub mod effects;
 mod handles;
 mod integrator;
+mod inverse_mass;
 mod islands;
 mod tree_contacts;
 pub mod world;

@@ -24,6 +24,13 @@ use crate::dynamics::solver::{ContactSettings, Softness, SolvePass};
 use crate::dynamics::{BodySet, DynamicsError};
 use crate::geometry::{Manifold, M3, MAX_MANIFOLD_POINTS, V3};
 
+/// A link coordinate moves a contact point "only tangentially" when the point's velocity
+/// along the normal is at most this fraction of its speed. A point that moves exactly
+/// tangentially by the joint's geometry (a bar turning in its bearing) comes out at rounding
+/// level, some 1e-16 of its speed; solved, its normal row's effective mass would be some
+/// 1e30 kg and its impulse unbounded.
+pub(crate) const INERT_NORMAL_RATIO: f64 = 1e-9;
+
 /// What a side of a contact is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Side {
@@ -83,6 +90,10 @@ pub(crate) struct TreeContact {
 pub(crate) struct TreeContacts {
     pub(crate) contacts: Vec<TreeContact>,
     rows: Vec<f64>,
+    /// Manifolds whose contacts no impulse can act on (`inert_contact`).
+    pub(crate) inert: Vec<usize>,
+    /// Scratch: a contact point's velocity Jacobian on side A's and side B's link.
+    point_jacobians: [Vec<V3>; 2],
     /// Substeps warm-started so far in this step.
     substeps: usize,
 }
@@ -109,6 +120,7 @@ impl TreeContacts {
     /// Forgets last step's contacts.
     pub(crate) fn clear(&mut self) {
         self.contacts.clear();
+        self.inert.clear();
         self.rows.clear();
         self.substeps = 0;
     }
@@ -134,10 +146,26 @@ impl TreeContacts {
         let n = m.normal;
         let tangents = tangent_basis(&n);
         let dirs = [n, tangents[0], tangents[1]];
+        if self.inert_contact(proxies, trees, poses, m, &a, &b) {
+            self.inert.push(mi);
+            return Ok(());
+        }
         let mut points = [Point::default(); MAX_MANIFOLD_POINTS];
         for (pc, cp) in points.iter_mut().zip(m.points()) {
             let ra = cp.point - bodies.pos[ia];
             let rb = cp.point - bodies.pos[ib];
+            // The contact point's velocity Jacobian on each link side, shared by its rows.
+            for (s, (side, body)) in [(a, ia), (b, ib)].into_iter().enumerate() {
+                if let Side::Link { tree } = side {
+                    let link = proxies[body].map_or(0, |p| p.link);
+                    trees[tree].point_velocity_jacobian(
+                        &poses[tree],
+                        link,
+                        &cp.point,
+                        &mut self.point_jacobians[s],
+                    );
+                }
+            }
             let mut vel = [0.0; 2];
             for (k, d) in dirs.iter().enumerate() {
                 let mut k_sum = 0.0;
@@ -152,13 +180,14 @@ impl TreeContacts {
                             }
                         }
                         Side::Link { tree } => {
-                            let link = proxies[body].map_or(0, |p| p.link);
                             let t = &mut trees[tree];
                             let nv = t.qd.len();
                             let start = self.rows.len();
                             self.rows.resize(start + 2 * nv, 0.0);
                             let (j, w) = self.rows[start..].split_at_mut(nv);
-                            t.point_jacobian(&poses[tree], link, &cp.point, d, j);
+                            for (x, u) in j.iter_mut().zip(&self.point_jacobians[s]) {
+                                *x = d.dot(u);
+                            }
                             t.apply_inverse_mass(j, w)?;
                             k_sum += j.iter().zip(w.iter()).map(|(x, y)| x * y).sum::<f64>();
                             if k == 0 {
@@ -206,6 +235,42 @@ impl TreeContacts {
             points,
         });
         Ok(())
+    }
+
+    /// Whether neither side of manifold `m` can move along its normal at any of its points
+    /// (a rod's bar in its wall slot, a sole turning over the cloth): no side is a free body,
+    /// and at every point each coordinate of each link side moves the point along the normal
+    /// by at most [`INERT_NORMAL_RATIO`] of its speed. No impulse changes such a contact's
+    /// gap, so it has no rows to solve.
+    fn inert_contact(
+        &mut self,
+        proxies: &[Option<Proxy>],
+        trees: &[ArticulatedSystem],
+        poses: &[Vec<crate::algebra::SE3<f64>>],
+        m: &Manifold,
+        a: &Side,
+        b: &Side,
+    ) -> bool {
+        if matches!(a, Side::Free { .. }) || matches!(b, Side::Free { .. }) {
+            return false;
+        }
+        let n = m.normal;
+        for cp in m.points() {
+            for (side, body) in [(a, m.a as usize), (b, m.b as usize)] {
+                let Side::Link { tree } = *side else {
+                    continue;
+                };
+                let link = proxies[body].map_or(0, |p| p.link);
+                let u = &mut self.point_jacobians[0];
+                trees[tree].point_velocity_jacobian(&poses[tree], link, &cp.point, u);
+                if u.iter()
+                    .any(|u| n.dot(u).abs() > INERT_NORMAL_RATIO * u.norm())
+                {
+                    return false;
+                }
+            }
+        }
+        true
     }
 
     /// Velocity of a side at a point along row `k` (m/s).
@@ -443,6 +508,14 @@ impl TreeContacts {
     /// driven rod kicking the ball) gives its impact in parts, and the step's sum is the
     /// impact's strength.
     pub(crate) fn store(&self, manifolds: &mut [Manifold]) {
+        for &mi in &self.inert {
+            let m = &mut manifolds[mi];
+            for cp in m.points[..m.len].iter_mut() {
+                cp.normal_impulse = 0.0;
+                cp.tangent_impulse = [0.0; 2];
+                cp.max_normal_impulse = 0.0;
+            }
+        }
         for c in &self.contacts {
             let m = &mut manifolds[c.manifold];
             for (cp, pc) in m.points[..m.len].iter_mut().zip(&c.points) {

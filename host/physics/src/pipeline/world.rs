@@ -10,7 +10,7 @@ use crate::dynamics::solver::{
     SolvePass,
 };
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
-use crate::geometry::{BroadPhase, NarrowPhase, V3};
+use crate::geometry::{BodyMotion, BroadPhase, NarrowPhase, V3};
 
 #[path = "ccd.rs"]
 mod ccd;
@@ -155,6 +155,8 @@ pub struct World {
     tree_dq: TreeDisplacements,
     /// Per tree, the link poses at the start of the step.
     link_poses: Vec<Vec<crate::algebra::SE3<f64>>>,
+    /// Per tree, the velocity its motors reach in the step's first substep (empty: none).
+    predicted_qd: Vec<Vec<f64>>,
     /// The substep (s) and the time at its end (s), for the drives' rows.
     substep_clock: (f64, f64),
     /// Body handles ↔ storage indices.
@@ -204,6 +206,7 @@ impl World {
             tree_contacts: TreeContacts::default(),
             tree_dq: Vec::new(),
             link_poses: Vec::new(),
+            predicted_qd: Vec::new(),
             substep_clock: (0.0, 0.0),
             body_slots,
             joint_slots: Slots::default(),
@@ -304,7 +307,10 @@ impl World {
             self.time += dt;
             return Ok(());
         }
-        self.sync_link_proxies();
+        if eff.has(Effect::ContinuousCollision) {
+            self.predict_motor_velocities(h)?;
+        }
+        self.sync_link_proxies(true);
         self.bodies.update_world_inertia();
 
         // Collision.
@@ -327,8 +333,7 @@ impl World {
                 }
                 let mut margin = spec;
                 if ccd && moving {
-                    margin +=
-                        dt * (b.vel[i].norm() + b.omega[i].norm() * b.shape[i].bounding_radius());
+                    margin += dt * b.sweep_speed(i);
                 }
                 b.aabb[i] = b.shape[i].aabb(&b.rot[i], &b.pos[i]).loosened(margin);
             }
@@ -340,17 +345,12 @@ impl World {
                 broad.update(&b.collision_view(), &self.excluded_pairs);
             self.counters.broad_phase_pairs = broad.pairs.len();
             let bodies = &*b;
-            let sweep = |i: usize| {
-                dt * (bodies.vel[i].norm()
-                    + bodies.omega[i].norm() * bodies.shape[i].bounding_radius())
-            };
-            let mut nc = narrow.update(&bodies.collision_view(), &broad.pairs, |a, b| {
-                if ccd {
-                    spec + sweep(a) + sweep(b)
-                } else {
-                    spec
-                }
+            let motion = ccd.then_some(BodyMotion {
+                dt,
+                vel: &bodies.vel,
+                omega: &bodies.omega,
             });
+            let mut nc = narrow.update(&bodies.collision_view(), &broad.pairs, spec, motion);
             if ccd {
                 // Fast balls keep only the contacts their swept path touches.
                 let sweep = ccd::SweepSettings {
@@ -604,7 +604,7 @@ impl World {
             }
         }
         self.step_articulated(h)?;
-        self.sync_link_proxies();
+        self.sync_link_proxies(false);
         if let Some(islands) = self.islands.as_mut() {
             self.counters.mark(Stage::Islands);
             let manifolds = self.narrow.as_ref().map_or(&[][..], |n| &n.manifolds[..]);
