@@ -179,14 +179,7 @@ impl BroadPhase {
                     continue;
                 }
                 tests += 1;
-                let hit = if half_space {
-                    half_space_overlaps(bodies, o, &bodies.aabb[b])
-                } else if bodies.shape[b].is_half_space() {
-                    half_space_overlaps(bodies, b, &bodies.aabb[o])
-                } else {
-                    bodies.aabb[o].overlaps(&bodies.aabb[b])
-                };
-                if hit {
+                if boxes_meet(bodies, o, b) {
                     self.push_pair(o, b, excluded);
                 }
             }
@@ -204,14 +197,7 @@ impl BroadPhase {
                     continue;
                 }
                 tests += 1;
-                let hit = if bodies.shape[a].is_half_space() {
-                    half_space_overlaps(bodies, a, &bodies.aabb[b])
-                } else if bodies.shape[b].is_half_space() {
-                    half_space_overlaps(bodies, b, &bodies.aabb[a])
-                } else {
-                    bodies.aabb[a].overlaps(&bodies.aabb[b])
-                };
-                if hit {
+                if boxes_meet(bodies, a, b) {
                     self.push_pair(a, b, excluded);
                 }
             }
@@ -231,6 +217,19 @@ impl BroadPhase {
         if excluded.binary_search(&k).is_err() {
             self.pairs.push(k);
         }
+    }
+}
+
+/// Whether the boxes of bodies `a` and `b` overlap; against a half-space, whether the other
+/// box reaches into it.
+#[inline]
+fn boxes_meet(bodies: &CollisionBodies<'_>, a: usize, b: usize) -> bool {
+    if bodies.shape[a].is_half_space() {
+        half_space_overlaps(bodies, a, &bodies.aabb[b])
+    } else if bodies.shape[b].is_half_space() {
+        half_space_overlaps(bodies, b, &bodies.aabb[a])
+    } else {
+        bodies.aabb[a].overlaps(&bodies.aabb[b])
     }
 }
 

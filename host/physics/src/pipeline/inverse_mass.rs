@@ -100,6 +100,31 @@ mod tests {
         )
     }
 
+    /// Two links hinged about `z`, the elbow 0.3 m out along the upper arm.
+    fn two_link_arm() -> ArticulatedTree<f64> {
+        let mut arm = ArticulatedTree::new(Vec3::zeros());
+        let z = Vec3::new(0.0, 0.0, 1.0);
+        let upper = arm
+            .add_body(
+                "upper",
+                None,
+                SE3::identity(),
+                Revolute::new(z),
+                off_axis_body(),
+            )
+            .unwrap();
+        let elbow = SE3::from_translation(Vec3::new(0.3, 0.0, 0.0));
+        arm.add_body(
+            "fore",
+            Some(upper),
+            elbow,
+            Revolute::new(z),
+            off_axis_body(),
+        )
+        .unwrap();
+        arm
+    }
+
     fn assert_same(tree: &mut ArticulatedTree<f64>, q: &[f64], cache: &mut InverseMassCache) {
         let nv = tree.nv();
         let mut ws = Workspace::new(tree);
@@ -144,39 +169,13 @@ mod tests {
         let nq = free.nq();
         assert_same(&mut free, &q_free[..nq], &mut InverseMassCache::default());
 
-        let mut arm = ArticulatedTree::new(Vec3::zeros());
-        let z = Vec3::new(0.0, 0.0, 1.0);
-        let a = arm
-            .add_body(
-                "upper",
-                None,
-                SE3::identity(),
-                Revolute::new(z),
-                off_axis_body(),
-            )
-            .unwrap();
-        let elbow = SE3::from_translation(Vec3::new(0.3, 0.0, 0.0));
-        arm.add_body("fore", Some(a), elbow, Revolute::new(z), off_axis_body())
-            .unwrap();
+        let mut arm = two_link_arm();
         assert_same(&mut arm, &[0.3, -1.1], &mut InverseMassCache::default());
     }
 
     #[test]
     fn a_new_configuration_forms_the_inverse_again() {
-        let mut arm = ArticulatedTree::new(Vec3::zeros());
-        let z = Vec3::new(0.0, 0.0, 1.0);
-        let a = arm
-            .add_body(
-                "upper",
-                None,
-                SE3::identity(),
-                Revolute::new(z),
-                off_axis_body(),
-            )
-            .unwrap();
-        let elbow = SE3::from_translation(Vec3::new(0.3, 0.0, 0.0));
-        arm.add_body("fore", Some(a), elbow, Revolute::new(z), off_axis_body())
-            .unwrap();
+        let mut arm = two_link_arm();
         let mut cache = InverseMassCache::default();
         // The arm's mass matrix depends on the elbow angle: a stale inverse would differ.
         assert_same(&mut arm, &[0.0, 0.0], &mut cache);
