@@ -169,7 +169,6 @@ impl BroadPhase {
         // Oversized bodies and half-spaces against everything.
         for oi in 0..self.oversized.len() {
             let o = self.oversized[oi] as usize;
-            let half_space = bodies.shape[o].is_half_space();
             for b in 0..bodies.len() {
                 if b == o || !Self::wanted(bodies, o, b) {
                     continue;
