@@ -43,6 +43,23 @@ pub enum PeersCmd {
         #[arg(long, num_args = 1.., default_values_t = ["towers-1120".to_string(), "pyramid-1240".to_string()])]
         scenes: Vec<String>,
     },
+    /// Accuracy against time on the stacking scenes: ours over its substeps, rapier3d over
+    /// its solver iterations (feature `rapier-peer`), sleeping off; the points, the front at
+    /// equal drift, and optionally the chart.
+    Front {
+        /// One JSON object `{"points": [...], "front": [...]}` instead of tables.
+        #[arg(long)]
+        json: bool,
+        /// Steps (default: each scene's, 600).
+        #[arg(long)]
+        steps: Option<u64>,
+        /// Scenes (built-in names or files).
+        #[arg(long, num_args = 1.., default_values_t = ["towers-1120".to_string(), "pyramid-1240".to_string()])]
+        scenes: Vec<String>,
+        /// Draw the chart here (`.svg` and `.png`).
+        #[arg(long)]
+        chart: Option<PathBuf>,
+    },
     /// An articulated tree in contact (a chain falling onto boxes) in our engine and in
     /// rapier3d's multibodies (feature `rapier-peer`): ms per step and the deepest ground
     /// penetration.
@@ -188,6 +205,12 @@ pub fn run(cmd: PeersCmd) -> Result<()> {
             steps,
             scenes,
         } => crate::rapier_peer::run(&scenes, steps, json)?,
+        PeersCmd::Front {
+            json,
+            steps,
+            scenes,
+            chart,
+        } => crate::front::run(&scenes, steps, json, chart.as_deref())?,
         PeersCmd::Multibody { json, steps, scene } => {
             crate::multibody_peer::run(&scene, steps, json)?
         }

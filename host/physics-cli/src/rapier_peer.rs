@@ -46,16 +46,18 @@ pub struct MatchedRow {
 /// Rapier's solver settings for one run.
 #[derive(Clone, Copy, Debug)]
 #[cfg_attr(not(feature = "rapier-peer"), allow(dead_code))]
-enum RapierSettings {
+pub(crate) enum RapierSettings {
     /// `IntegrationParameters::default()`.
     Defaults,
     /// `num_solver_iterations = substeps`; contact natural frequency `hertz` (Hz), twice that
     /// against fixed bodies, as ours.
     Matched { substeps: usize, hertz: f64 },
+    /// The defaults with `num_solver_iterations` set (Rapier's accuracy knob).
+    Iterations(usize),
 }
 
 /// Largest displacement of a dynamic body from its start (m).
-fn max_drift(start: &[[f64; 3]], now: &[[f64; 3]]) -> f64 {
+pub(crate) fn max_drift(start: &[[f64; 3]], now: &[[f64; 3]]) -> f64 {
     start
         .iter()
         .zip(now)
@@ -65,8 +67,10 @@ fn max_drift(start: &[[f64; 3]], now: &[[f64; 3]]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Steps scene `s` in rapier3d for `steps` steps: median ms per step and the largest drift of
+/// a dynamic body (m).
 #[cfg(feature = "rapier-peer")]
-fn rapier_run(
+pub(crate) fn rapier_run(
     s: &virtual_physics::scene::SceneFile,
     sleeping: bool,
     steps: u64,
@@ -85,11 +89,15 @@ fn rapier_run(
         ..PhysicsWorld::default()
     };
     w.integration_parameters.dt = s.dt as Real;
-    if let RapierSettings::Matched { substeps, hertz } = settings {
-        let p = &mut w.integration_parameters;
-        p.num_solver_iterations = substeps;
-        p.contact_softness.natural_frequency = hertz as Real;
-        p.static_contact_softness.natural_frequency = 2.0 * hertz as Real;
+    match settings {
+        RapierSettings::Defaults => {}
+        RapierSettings::Matched { substeps, hertz } => {
+            let p = &mut w.integration_parameters;
+            p.num_solver_iterations = substeps;
+            p.contact_softness.natural_frequency = hertz as Real;
+            p.static_contact_softness.natural_frequency = 2.0 * hertz as Real;
+        }
+        RapierSettings::Iterations(n) => w.integration_parameters.num_solver_iterations = n,
     }
     let mut handles = Vec::new();
     for (i, b) in s.bodies.iter().enumerate() {
@@ -160,7 +168,7 @@ fn rapier_run(
 }
 
 #[cfg(not(feature = "rapier-peer"))]
-fn rapier_run(
+pub(crate) fn rapier_run(
     _: &virtual_physics::scene::SceneFile,
     _: bool,
     _: u64,
@@ -170,7 +178,7 @@ fn rapier_run(
 }
 
 /// The error of a build without the feature (exit status 2).
-fn missing() -> anyhow::Error {
+pub(crate) fn missing() -> anyhow::Error {
     crate::exit::PeerMissing(
         "vphys was built without the rapier peer; rebuild with `cargo run -p \
          virtual-physics-cli --release --features rapier-peer -- peers rapier`"

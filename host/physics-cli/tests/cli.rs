@@ -308,11 +308,13 @@ fn a_missing_peer_is_status_2_with_one_line() {
     if cfg!(feature = "rapier-peer") {
         return;
     }
-    let out = vphys(&["peers", "parry"]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{err}");
-    assert_eq!(err.lines().count(), 1, "{err}");
-    assert!(err.contains("--features rapier-peer"), "{err}");
+    for peer in ["parry", "front"] {
+        let out = vphys(&["peers", peer]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{peer}: {err}");
+        assert_eq!(err.lines().count(), 1, "{peer}: {err}");
+        assert!(err.contains("--features rapier-peer"), "{peer}: {err}");
+    }
 }
 
 /// The bad-input reproducers of the library's tests: each file is a scene that must be

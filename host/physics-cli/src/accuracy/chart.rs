@@ -29,8 +29,8 @@ fn colour(k: IntegratorKind) -> RGBColor {
     }
 }
 
-/// Draws the chart to `png` and `svg` (each through a temporary file and a rename).
-pub fn draw(r: &Report, png: &Path, svg: &Path) -> Result<()> {
+/// Registers the committed font as plotters' "sans-serif" (once per process).
+pub(crate) fn register_font() -> Result<()> {
     let mut ok = true;
     REGISTER.call_once(|| {
         ok = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok();
@@ -38,6 +38,12 @@ pub fn draw(r: &Report, png: &Path, svg: &Path) -> Result<()> {
     if !ok {
         return Err(anyhow!("the committed chart font does not parse"));
     }
+    Ok(())
+}
+
+/// Draws the chart to `png` and `svg` (each through a temporary file and a rename).
+pub fn draw(r: &Report, png: &Path, svg: &Path) -> Result<()> {
+    register_font()?;
     let tmp_png = png.with_extension("tmp.png");
     {
         let root = BitMapBackend::new(&tmp_png, SIZE).into_drawing_area();
