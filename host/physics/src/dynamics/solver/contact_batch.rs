@@ -281,6 +281,8 @@ pub struct ContactBatches {
     pub colours: usize,
     used: Vec<Vec<u64>>,
     members: Vec<Vec<usize>>,
+    /// Whether the processor has AVX2 (asked once).
+    #[cfg(target_arch = "x86_64")]
     avx2: Option<bool>,
 }
 
@@ -345,17 +347,11 @@ impl ContactBatches {
         self.live
     }
 
+    #[cfg(target_arch = "x86_64")]
     fn use_avx2(&mut self) -> bool {
-        *self.avx2.get_or_insert_with(|| {
-            #[cfg(target_arch = "x86_64")]
-            {
-                std::arch::is_x86_feature_detected!("avx2")
-            }
-            #[cfg(not(target_arch = "x86_64"))]
-            {
-                false
-            }
-        })
+        *self
+            .avx2
+            .get_or_insert_with(|| std::arch::is_x86_feature_detected!("avx2"))
     }
 
     /// Applies every group's accumulated impulses (warm start).
