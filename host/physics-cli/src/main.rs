@@ -34,6 +34,7 @@ mod peers;
 mod rapier_peer;
 mod run;
 mod table3;
+mod tumbling_peers;
 
 use std::process::ExitCode;
 

@@ -60,6 +60,22 @@ pub enum PeersCmd {
         #[arg(long)]
         chart: Option<PathBuf>,
     },
+    /// The accuracy report's tumbling box in ours, MuJoCo (when installed) and rapier3d
+    /// (feature `rapier-peer`): error against CPU time per simulated second.
+    Tumbling {
+        /// One JSON object `{"points": [...], "missing": [...]}` instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Python interpreter with the `mujoco` package.
+        #[arg(long, default_value = "python3")]
+        python: String,
+        /// The MuJoCo script.
+        #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../physics/peers/mujoco_tumbling.py"))]
+        script: PathBuf,
+        /// Draw the chart here (`.svg` and `.png`).
+        #[arg(long)]
+        chart: Option<PathBuf>,
+    },
     /// An articulated tree in contact (a chain falling onto boxes) in our engine and in
     /// rapier3d's multibodies (feature `rapier-peer`): ms per step and the deepest ground
     /// penetration.
@@ -211,6 +227,12 @@ pub fn run(cmd: PeersCmd) -> Result<()> {
             scenes,
             chart,
         } => crate::front::run(&scenes, steps, json, chart.as_deref())?,
+        PeersCmd::Tumbling {
+            json,
+            python,
+            script,
+            chart,
+        } => crate::tumbling_peers::run(&python, &script, json, chart.as_deref())?,
         PeersCmd::Multibody { json, steps, scene } => {
             crate::multibody_peer::run(&scene, steps, json)?
         }
