@@ -10,11 +10,13 @@
 use std::path::Path;
 
 use anyhow::{anyhow, Result};
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use serde::Serialize;
 use virtual_physics::dynamics::BodyKind;
 use virtual_physics::pipeline::{BodyHandle, World};
 
+use crate::figure::Figure;
 use crate::rapier_peer::{max_drift, missing, rapier_run, RapierSettings};
 use crate::run::{load, stats, time_steps};
 
@@ -178,32 +180,35 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool, chart: Option<&Pat
 }
 
 /// Drift against ms per step, log–log, one panel per scene.
+struct FrontChart<'a> {
+    scenes: &'a [String],
+    points: &'a [Point],
+}
+
 fn draw(scenes: &[String], points: &[Point], path: &Path) -> Result<()> {
-    crate::accuracy::chart::register_font()?;
     let size = (750 * scenes.len().max(1) as u32, 600);
-    let svg = path.with_extension("svg");
-    let png = path.with_extension("png");
-    let tmp = svg.with_extension("tmp.svg");
+    let chart = FrontChart { scenes, points };
+    crate::figure::save(
+        &chart,
+        size,
+        &path.with_extension("svg"),
+        &path.with_extension("png"),
+    )
+}
+
+impl Figure for FrontChart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>
+    where
+        DB::ErrorType: 'static,
     {
-        let root = SVGBackend::new(&tmp, size).into_drawing_area();
-        panels(scenes, points, &root)?;
-        root.present().map_err(|e| anyhow!("{e}"))?;
+        panels(self.scenes, self.points, root)
     }
-    std::fs::rename(&tmp, &svg)?;
-    let tmp = png.with_extension("tmp.png");
-    {
-        let root = BitMapBackend::new(&tmp, size).into_drawing_area();
-        panels(scenes, points, &root)?;
-        root.present().map_err(|e| anyhow!("{e}"))?;
-    }
-    std::fs::rename(&tmp, &png)?;
-    Ok(())
 }
 
 fn panels<DB: DrawingBackend>(
     scenes: &[String],
     points: &[Point],
-    root: &DrawingArea<DB, plotters::coord::Shift>,
+    root: &DrawingArea<DB, Shift>,
 ) -> Result<()>
 where
     DB::ErrorType: 'static,
@@ -257,25 +262,9 @@ where
                 .filter(|p| p.engine == engine)
                 .map(|p| (p.ms_per_step, p.max_drift_m))
                 .collect();
-            chart
-                .draw_series(LineSeries::new(series.clone(), c.stroke_width(2)))
-                .map_err(|e| anyhow!("{e}"))?
-                .label(label)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2))
-                });
-            chart
-                .draw_series(series.into_iter().map(|xy| Circle::new(xy, 4, c.filled())))
-                .map_err(|e| anyhow!("{e}"))?;
+            crate::figure::curve(&mut chart, series, c, 4, label.to_string())?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 13))
-            .draw()
-            .map_err(|e| anyhow!("{e}"))?;
+        crate::figure::legend(&mut chart, SeriesLabelPosition::UpperRight, 13)?;
     }
     Ok(())
 }

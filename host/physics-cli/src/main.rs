@@ -27,6 +27,7 @@ mod accuracy;
 mod bodies;
 mod effects;
 mod exit;
+mod figure;
 mod front;
 mod multibody_peer;
 mod parry_peer;

@@ -11,7 +11,9 @@
 use std::path::Path;
 use std::process::Command;
 
+use crate::figure::Figure;
 use anyhow::{anyhow, bail, Context, Result};
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use serde::Serialize;
 use virtual_physics::measure::accuracy::free_body::{self, Trajectory, OMEGA0};
@@ -222,31 +224,23 @@ fn colour(i: usize) -> RGBColor {
 }
 
 /// Error against cost, log–log, one curve per engine and integrator.
+struct TumblingChart<'a>(&'a [Point]);
+
 fn draw(points: &[Point], path: &Path) -> Result<()> {
-    crate::accuracy::chart::register_font()?;
-    let svg = path.with_extension("svg");
-    let png = path.with_extension("png");
-    let tmp = svg.with_extension("tmp.svg");
-    {
-        let root = SVGBackend::new(&tmp, (900, 650)).into_drawing_area();
-        panel(points, &root)?;
-        root.present().map_err(|e| anyhow!("{e}"))?;
-    }
-    std::fs::rename(&tmp, &svg)?;
-    let tmp = png.with_extension("tmp.png");
-    {
-        let root = BitMapBackend::new(&tmp, (900, 650)).into_drawing_area();
-        panel(points, &root)?;
-        root.present().map_err(|e| anyhow!("{e}"))?;
-    }
-    std::fs::rename(&tmp, &png)?;
-    Ok(())
+    let (svg, png) = (path.with_extension("svg"), path.with_extension("png"));
+    crate::figure::save(&TumblingChart(points), (900, 650), &svg, &png)
 }
 
-fn panel<DB: DrawingBackend>(
-    points: &[Point],
-    root: &DrawingArea<DB, plotters::coord::Shift>,
-) -> Result<()>
+impl Figure for TumblingChart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>
+    where
+        DB::ErrorType: 'static,
+    {
+        panel(self.0, root)
+    }
+}
+
+fn panel<DB: DrawingBackend>(points: &[Point], root: &DrawingArea<DB, Shift>) -> Result<()>
 where
     DB::ErrorType: 'static,
 {
@@ -298,23 +292,9 @@ where
             .filter(|p| p.engine == *engine && &p.integrator == integrator)
             .map(|p| (p.cpu_s_per_sim_s, p.error))
             .collect();
-        chart
-            .draw_series(LineSeries::new(series.clone(), c.stroke_width(2)))
-            .map_err(|e| anyhow!("{e}"))?
-            .label(format!("{engine} {integrator}"))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
-        chart
-            .draw_series(series.into_iter().map(|xy| Circle::new(xy, 3, c.filled())))
-            .map_err(|e| anyhow!("{e}"))?;
+        crate::figure::curve(&mut chart, series, c, 3, format!("{engine} {integrator}"))?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerLeft)
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 12))
-        .draw()
-        .map_err(|e| anyhow!("{e}"))?;
+    crate::figure::legend(&mut chart, SeriesLabelPosition::LowerLeft, 12)?;
     Ok(())
 }
 

@@ -1,21 +1,17 @@
 //! The chart: error against CPU seconds per simulated second, log–log, one panel per problem,
-//! one curve per integrator (points in order of the step). PNG and SVG from the same code;
-//! text drawn with the committed Cantarell font through plotters' `ab_glyph` feature.
+//! one curve per integrator (points in order of the step). PNG and SVG from the same code
+//! (`crate::figure`), text in the committed Cantarell font through plotters' `ab_glyph` feature.
 
 use std::path::Path;
-use std::sync::Once;
 
 use anyhow::{anyhow, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::FontStyle;
 use virtual_physics::measure::accuracy::Problem;
 use virtual_physics::pipeline::IntegratorKind;
 
 use super::Report;
-
-static FONT: &[u8] = include_bytes!("../../assets/fonts/Cantarell-Regular.ttf");
-static REGISTER: Once = Once::new();
+use crate::figure::Figure;
 
 const SIZE: (u32, u32) = (1500, 1000);
 
@@ -29,36 +25,21 @@ fn colour(k: IntegratorKind) -> RGBColor {
     }
 }
 
-/// Registers the committed font as plotters' "sans-serif" (once per process).
-pub(crate) fn register_font() -> Result<()> {
-    let mut ok = true;
-    REGISTER.call_once(|| {
-        ok = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_ok();
-    });
-    if !ok {
-        return Err(anyhow!("the committed chart font does not parse"));
-    }
-    Ok(())
-}
-
 /// Draws the chart to `png` and `svg` (each through a temporary file and a rename).
 pub fn draw(r: &Report, png: &Path, svg: &Path) -> Result<()> {
-    register_font()?;
-    let tmp_png = png.with_extension("tmp.png");
+    crate::figure::save(&Chart(r), SIZE, svg, png)
+}
+
+/// The report's chart.
+struct Chart<'a>(&'a Report);
+
+impl Figure for Chart<'_> {
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<()>
+    where
+        DB::ErrorType: 'static,
     {
-        let root = BitMapBackend::new(&tmp_png, SIZE).into_drawing_area();
-        panels(r, &root)?;
-        root.present().map_err(|e| anyhow!("{e}"))?;
+        panels(self.0, root)
     }
-    std::fs::rename(&tmp_png, png)?;
-    let tmp_svg = svg.with_extension("tmp.svg");
-    {
-        let root = SVGBackend::new(&tmp_svg, SIZE).into_drawing_area();
-        panels(r, &root)?;
-        root.present().map_err(|e| anyhow!("{e}"))?;
-    }
-    std::fs::rename(&tmp_svg, svg)?;
-    Ok(())
 }
 
 fn panels<DB: DrawingBackend>(r: &Report, root: &DrawingArea<DB, Shift>) -> Result<()>
@@ -131,22 +112,8 @@ where
             .map(|row| (row.cpu_s_per_sim_s, row.error))
             .filter(|(x, y)| x.is_finite() && *x > 0.0 && y.is_finite() && *y > 0.0)
             .collect();
-        chart
-            .draw_series(LineSeries::new(series.clone(), c.stroke_width(2)))
-            .map_err(|e| anyhow!("{e}"))?
-            .label(k.name())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
-        chart
-            .draw_series(series.into_iter().map(|xy| Circle::new(xy, 3, c.filled())))
-            .map_err(|e| anyhow!("{e}"))?;
+        crate::figure::curve(&mut chart, series, c, 3, k.name().to_string())?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerLeft)
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 12))
-        .draw()
-        .map_err(|e| anyhow!("{e}"))?;
+    crate::figure::legend(&mut chart, SeriesLabelPosition::LowerLeft, 12)?;
     Ok(())
 }

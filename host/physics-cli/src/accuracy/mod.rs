@@ -1,7 +1,7 @@
 //! `vphys accuracy`: every reference problem × every integrator × a sweep of steps; writes the
 //! table (Markdown and JSON) and the error-vs-cost chart (PNG and SVG).
 
-pub(crate) mod chart;
+mod chart;
 mod check;
 mod table;
 
