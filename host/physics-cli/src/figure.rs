@@ -55,6 +55,25 @@ pub fn save(figure: &impl Figure, size: (u32, u32), svg: &Path, png: &Path) -> R
 /// A log–log chart's context.
 pub type LogLog<'a, DB> = ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
 
+/// A log–log chart on `area` over the ranges `x` and `y`, with its caption.
+pub fn log_log<'a, DB: DrawingBackend + 'a>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    x: std::ops::Range<f64>,
+    y: std::ops::Range<f64>,
+) -> Result<LogLog<'a, DB>>
+where
+    DB::ErrorType: 'static,
+{
+    ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 20))
+        .margin(10)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x.log_scale(), y.log_scale())
+        .map_err(|e| anyhow!("{e}"))
+}
+
 /// Draws `points` as a line with dots of `radius` px in `colour`, labelled `label`.
 pub fn curve<'a, DB: DrawingBackend + 'a>(
     chart: &mut LogLog<'a, DB>,

@@ -233,13 +233,8 @@ where
             }
         };
         let (xr, yr) = (span(|p| p.ms_per_step), span(|p| p.max_drift_m));
-        let mut chart = ChartBuilder::on(area)
-            .caption(format!("{scene}: drift against time"), ("sans-serif", 20))
-            .margin(10)
-            .x_label_area_size(40)
-            .y_label_area_size(70)
-            .build_cartesian_2d(xr.log_scale(), yr.log_scale())
-            .map_err(|e| anyhow!("{e}"))?;
+        let caption = format!("{scene}: drift against time");
+        let mut chart = crate::figure::log_log(area, &caption, xr, yr)?;
         chart
             .configure_mesh()
             .x_desc("ms per step (one thread)")

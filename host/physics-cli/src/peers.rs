@@ -36,12 +36,8 @@ pub enum PeersCmd {
         /// One JSON object `{"rows": [...]}` instead of a table.
         #[arg(long)]
         json: bool,
-        /// Steps (default: each scene's, 600).
-        #[arg(long)]
-        steps: Option<u64>,
-        /// Scenes (built-in names or files).
-        #[arg(long, num_args = 1.., default_values_t = ["towers-1120".to_string(), "pyramid-1240".to_string()])]
-        scenes: Vec<String>,
+        #[command(flatten)]
+        stacks: Stacks,
     },
     /// Accuracy against time on the stacking scenes: ours over its substeps, rapier3d over
     /// its solver iterations (feature `rapier-peer`), sleeping off; the points, the front at
@@ -50,12 +46,8 @@ pub enum PeersCmd {
         /// One JSON object `{"points": [...], "front": [...]}` instead of tables.
         #[arg(long)]
         json: bool,
-        /// Steps (default: each scene's, 600).
-        #[arg(long)]
-        steps: Option<u64>,
-        /// Scenes (built-in names or files).
-        #[arg(long, num_args = 1.., default_values_t = ["towers-1120".to_string(), "pyramid-1240".to_string()])]
-        scenes: Vec<String>,
+        #[command(flatten)]
+        stacks: Stacks,
         /// Draw the chart here (`.svg` and `.png`).
         #[arg(long)]
         chart: Option<PathBuf>,
@@ -104,6 +96,17 @@ pub enum PeersCmd {
         #[command(flatten)]
         py: Python,
     },
+}
+
+/// The stacking scenes a comparison runs, and for how long.
+#[derive(clap::Args)]
+pub struct Stacks {
+    /// Steps (default: each scene's, 600).
+    #[arg(long)]
+    steps: Option<u64>,
+    /// Scenes (built-in names or files).
+    #[arg(long, num_args = 1.., default_values_t = ["towers-1120".to_string(), "pyramid-1240".to_string()])]
+    scenes: Vec<String>,
 }
 
 #[derive(clap::Args)]
@@ -216,17 +219,14 @@ pub fn run(cmd: PeersCmd) -> Result<()> {
             out!("{}", py.run(&args)?);
             std::fs::remove_dir_all(&dir).ok();
         }
-        PeersCmd::Rapier {
-            json,
-            steps,
-            scenes,
-        } => crate::rapier_peer::run(&scenes, steps, json)?,
+        PeersCmd::Rapier { json, stacks } => {
+            crate::rapier_peer::run(&stacks.scenes, stacks.steps, json)?
+        }
         PeersCmd::Front {
             json,
-            steps,
-            scenes,
+            stacks,
             chart,
-        } => crate::front::run(&scenes, steps, json, chart.as_deref())?,
+        } => crate::front::run(&stacks.scenes, stacks.steps, json, chart.as_deref())?,
         PeersCmd::Tumbling {
             json,
             python,

@@ -259,16 +259,8 @@ where
         }
     };
     let (xr, yr) = (span(|p| p.cpu_s_per_sim_s), span(|p| p.error));
-    let mut chart = ChartBuilder::on(root)
-        .caption(
-            "tumbling box: error against cost, ours and the peers",
-            ("sans-serif", 20),
-        )
-        .margin(10)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d(xr.log_scale(), yr.log_scale())
-        .map_err(|e| anyhow!("{e}"))?;
+    let caption = "tumbling box: error against cost, ours and the peers";
+    let mut chart = crate::figure::log_log(root, caption, xr, yr)?;
     chart
         .configure_mesh()
         .x_desc("CPU s per simulated s")

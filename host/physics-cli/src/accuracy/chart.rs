@@ -81,13 +81,7 @@ where
         }
     };
     let (xr, yr) = (range(|p| p.0), range(|p| p.1));
-    let mut chart = ChartBuilder::on(area)
-        .caption(p.name(), ("sans-serif", 20))
-        .margin(8)
-        .x_label_area_size(40)
-        .y_label_area_size(70)
-        .build_cartesian_2d(xr.log_scale(), yr.log_scale())
-        .map_err(|e| anyhow!("{e}"))?;
+    let mut chart = crate::figure::log_log(area, p.name(), xr, yr)?;
     chart
         .configure_mesh()
         .x_desc("CPU s per simulated s")
