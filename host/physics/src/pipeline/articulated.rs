@@ -90,6 +90,8 @@ pub struct ArticulatedSystem {
     q0: Vec<f64>,
     qd0: Vec<f64>,
     stage_qd: Vec<f64>,
+    /// Scratch: a unit generalised impulse (the motors' prediction).
+    pub(crate) unit_impulse: Vec<f64>,
     theta: Vec<f64>,
     k_theta: [Vec<f64>; 4],
     k_qd: [Vec<f64>; 4],
@@ -147,6 +149,7 @@ impl ArticulatedSystem {
             q0: vec![0.0; nq],
             qd0: z(),
             stage_qd: z(),
+            unit_impulse: z(),
             theta: z(),
             k_theta: [z(), z(), z(), z()],
             k_qd: [z(), z(), z(), z()],

@@ -209,8 +209,23 @@ impl ArticulatedSystem {
         out.clear();
         out.extend_from_slice(&self.qd);
         let nv = self.qd.len();
-        let mut e = vec![0.0; nv];
-        let mut response = vec![0.0; nv];
+        // The drives' own response buffers (refreshed again each substep) and one unit
+        // vector: no allocation once warm.
+        let mut e = std::mem::take(&mut self.unit_impulse);
+        e.clear();
+        e.resize(nv, 0.0);
+        let result = self.predict_motors(h, out, &mut e);
+        self.unit_impulse = e;
+        result
+    }
+
+    fn predict_motors(
+        &mut self,
+        h: f64,
+        out: &mut [f64],
+        e: &mut [f64],
+    ) -> Result<(), DynamicsError> {
+        let nv = self.qd.len();
         for i in 0..self.drives.len() {
             let (k, m) = match &self.drives[i].kind {
                 DriveKind::Motor(m) if self.drives[i].dof < nv => (self.drives[i].dof, *m),
@@ -221,8 +236,12 @@ impl ArticulatedSystem {
             };
             e.iter_mut().for_each(|x| *x = 0.0);
             e[k] = 1.0;
-            self.apply_inverse_mass(&e, &mut response)?;
+            let mut response = std::mem::take(&mut self.drives[i].response);
+            response.resize(nv, 0.0);
+            let r = self.apply_inverse_mass(e, &mut response);
             let a = response[k];
+            self.drives[i].response = response;
+            r?;
             if a <= 0.0 {
                 continue;
             }
@@ -234,7 +253,7 @@ impl ArticulatedSystem {
             let lambda =
                 (h * kp * q_err + h * m.damping * m.target_velocity - g * out[k]) / (1.0 + a * g);
             let max = m.max_force * h;
-            apply(out, &response, lambda.clamp(-max, max));
+            apply(out, &self.drives[i].response, lambda.clamp(-max, max));
         }
         Ok(())
     }
