@@ -55,6 +55,22 @@ pub fn save(figure: &impl Figure, size: (u32, u32), svg: &Path, png: &Path) -> R
 /// A log–log chart's context.
 pub type LogLog<'a, DB> = ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
 
+/// A log axis over `values`, widened by `pad` each way (`lo / pad .. hi · pad`), or
+/// `fallback` when the values span nothing.
+pub fn log_span(
+    values: impl Iterator<Item = f64> + Clone,
+    pad: f64,
+    fallback: std::ops::Range<f64>,
+) -> std::ops::Range<f64> {
+    let lo = values.clone().fold(f64::INFINITY, f64::min);
+    let hi = values.fold(0.0, f64::max);
+    if lo.is_finite() && hi > lo {
+        (lo / pad)..(hi * pad)
+    } else {
+        fallback
+    }
+}
+
 /// A log–log chart on `area` over the ranges `x` and `y`, with its caption.
 pub fn log_log<'a, DB: DrawingBackend + 'a>(
     area: &'a DrawingArea<DB, Shift>,

@@ -224,13 +224,7 @@ where
             .filter(|p| &p.scene == scene && p.ms_per_step > 0.0 && p.max_drift_m > 0.0)
             .collect();
         let span = |f: fn(&Point) -> f64| {
-            let lo = pts.iter().map(|p| f(p)).fold(f64::INFINITY, f64::min);
-            let hi = pts.iter().map(|p| f(p)).fold(0.0, f64::max);
-            if lo.is_finite() && hi > lo {
-                (lo / 1.5)..(hi * 1.5)
-            } else {
-                1e-3..1.0
-            }
+            crate::figure::log_span(pts.iter().map(move |p| f(p)), 1.5, 1e-3..1.0)
         };
         let (xr, yr) = (span(|p| p.ms_per_step), span(|p| p.max_drift_m));
         let caption = format!("{scene}: drift against time");

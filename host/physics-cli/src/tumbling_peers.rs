@@ -250,13 +250,7 @@ where
         .filter(|p| p.error.is_finite() && p.error > 0.0 && p.cpu_s_per_sim_s > 0.0)
         .collect();
     let span = |f: fn(&Point) -> f64| {
-        let lo = shown.iter().map(|p| f(p)).fold(f64::INFINITY, f64::min);
-        let hi = shown.iter().map(|p| f(p)).fold(0.0, f64::max);
-        if lo.is_finite() && hi > lo {
-            (lo / 2.0)..(hi * 2.0)
-        } else {
-            1e-6..1.0
-        }
+        crate::figure::log_span(shown.iter().map(move |p| f(p)), 2.0, 1e-6..1.0)
     };
     let (xr, yr) = (span(|p| p.cpu_s_per_sim_s), span(|p| p.error));
     let caption = "tumbling box: error against cost, ours and the peers";
