@@ -91,6 +91,8 @@ pub struct WebSession {
     game: Match,
     snapshots: (MatchSnapshot, MatchSnapshot),
     stepper: Stepper,
+    /// 1 ms steps of the schedule so far, paused ones included.
+    ticks: u64,
     match_table: Table,
     match_view: TableGeometry,
     controllers: [RodController; 2],
@@ -144,6 +146,7 @@ impl WebSession {
             game,
             snapshots: (snap.clone(), snap),
             stepper: Stepper::new(),
+            ticks: 0,
             table,
             haptics: None,
             pending: Vec::new(),
@@ -218,6 +221,12 @@ impl WebSession {
     /// OUT reports handed to the page so far.
     pub fn out_reports(&mut self) -> u64 {
         self.input.board_mut().out_reports()
+    }
+
+    /// The session's simulated clock, s: its 1 ms steps so far, paused ones included
+    /// (scripted keys run on it).
+    pub fn clock_s(&self) -> f64 {
+        self.ticks as f64 * crate::stepper::STEP_S
     }
 
     /// The session's counters.
@@ -312,6 +321,7 @@ impl WebSession {
     /// is paused (by the player, or because the board is lost).
     fn step_physics(&mut self, now_s: f64) -> u32 {
         let steps = self.stepper.due(now_s);
+        self.ticks += u64::from(steps);
         for _ in 0..steps {
             if let Source::Keyboard(k) = &mut self.source {
                 let report = k.step_report().to_bytes();
@@ -602,6 +612,36 @@ mod tests {
         assert!(paused.paused);
         let still = frames(&mut s, 4.1, 4.5);
         assert_eq!(still.match_time_s, paused.match_time_s);
+    }
+
+    /// A software renderer's cold start: frames 1.5 s apart (each runs the most steps a
+    /// frame may, 100 ms). The `start` script on the session's clock still holds each key
+    /// for the match time it says, so the pushes start a match and the slide moves the rod.
+    #[test]
+    fn the_start_script_on_the_session_clock_survives_slow_frames() {
+        let table = Table::standard();
+        let mut s = WebSession::new(table.clone(), 3).unwrap();
+        let mut script: crate::script::Script = "start".parse().unwrap();
+        let mut wall = 0.0;
+        while s.clock_s() < 6.0 {
+            for (code, pressed) in script.due(s.clock_s()) {
+                if let (Some(k), Some(kb)) = (code.and_then(crate::keys::map_key), s.keyboard()) {
+                    kb.key(k, pressed);
+                }
+            }
+            s.frame(wall).unwrap();
+            wall += 1.5;
+        }
+        assert_eq!(s.stage(), Stage::Playing);
+        assert_eq!(
+            s.controllers(),
+            [RodController::Player, RodController::Computer]
+        );
+        // The script ends with the keeper slid 0.4 s at the key's speed away from its
+        // player, at least 0.1 s of it held (a frame's steps either side).
+        let keeper = table.rods_of(Side::Home).next().unwrap();
+        let slide = s.rod_inputs().rods[keeper].slide_m;
+        assert!(slide > 0.03, "the keeper slid {slide} m");
     }
 
     #[test]

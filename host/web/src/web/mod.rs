@@ -4,7 +4,9 @@
 //! calls ([`exports`]).
 //!
 //! URL parameters: `seed=N` (the first match's seed, default 1), `script=…` (scripted
-//! keys, the desktop's `--demo-input` format, seconds since the page started).
+//! keys, the desktop's `--demo-input` format, in seconds of simulated time: the match's
+//! 1 ms steps since the page started, so that a key is held for the match time the
+//! script says however slowly a software renderer draws).
 
 mod exports;
 
@@ -74,14 +76,12 @@ fn run() -> anyhow::Result<()> {
     let session = WebSession::new(Table::standard(), seed)?;
     let event_loop = EventLoop::new().map_err(|e| anyhow::anyhow!("no event loop: {e}"))?;
     event_loop.set_control_flow(ControlFlow::Wait);
-    let started = now_s();
     event_loop.spawn_app(App {
         session,
         script,
-        due_keys: Default::default(),
         window: None,
         renderer: None,
-        started,
+        started: now_s(),
         frames: 0,
         failed: false,
         frame_stats: FrameStats::default(),
@@ -92,9 +92,9 @@ fn run() -> anyhow::Result<()> {
 struct App {
     session: WebSession,
     script: Script,
-    due_keys: std::collections::VecDeque<(Option<KeyCode>, bool)>,
     window: Option<Arc<Window>>,
     renderer: Option<WindowRenderer>,
+    /// The page clock when the game started, s.
     started: f64,
     frames: u64,
     failed: bool,
@@ -168,12 +168,11 @@ impl App {
             return;
         }
         let now = now_s();
-        let t = now - self.started;
-        // Scripted keys: one press or release a frame, so that a slow frame (software
-        // WebGL) never presses and releases a key before the physics has seen it held.
-        self.due_keys.extend(self.script.due(t));
-        if let Some((Some(code), pressed)) = self.due_keys.pop_front() {
-            self.key(code, pressed);
+        // Scripted keys on the match's clock, before this frame's steps run.
+        for (code, pressed) in self.script.due(self.session.clock_s()) {
+            if let Some(code) = code {
+                self.key(code, pressed);
+            }
         }
         self.take_page_input();
         let mut out = match self.session.frame(now) {
@@ -205,7 +204,7 @@ impl App {
         self.frame_stats.frame(now * 1e3, now_s() * 1e3);
         let page = crate::status::PageFigures {
             frames: self.frames,
-            seconds: t,
+            seconds: now - self.started,
             adapter: &adapter,
             frame_stats: &self.frame_stats,
         };
