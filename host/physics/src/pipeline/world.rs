@@ -6,8 +6,8 @@ use super::handles::{BodyHandle, JointHandle, Slots};
 use super::islands::Islands;
 use super::{Effect, Effects, FreeForces, FreeIntegrator, IntegratorKind, Stage, StepCounters};
 use crate::dynamics::solver::{
-    ContactBatches, ContactConstraint, ContactSettings, ContactStiffness, FreeJoint, Softness,
-    SolvePass,
+    ContactBatches, ContactConstraint, ContactSettings, ContactStiffness, FreeJoint, JointGraph,
+    JointSoftness, Softness, SolvePass,
 };
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
 use crate::geometry::{BodyMotion, BroadPhase, NarrowPhase, V3};
@@ -71,9 +71,11 @@ pub struct SolverSettings {
     pub soft_contacts: bool,
     /// Position error to push-out speed (1/s) of rigid contacts.
     pub contact_bias_rate: f64,
-    /// Joint stiffness (Hz).
+    /// Stiffness (Hz) of the position correction of joints solved one after another: those
+    /// that close a loop among moving bodies. A forest of joints is solved exactly, as one
+    /// system, and corrects as stiffly as the substep allows (a quarter of its rate).
     pub joint_hertz: f64,
-    /// Joint damping ratio (–).
+    /// Damping ratio (–) of the joints solved one after another.
     pub joint_damping_ratio: f64,
     /// Contacts are kept up to this separation (m) — speculative distance.
     pub speculative_distance: f64,
@@ -128,6 +130,8 @@ pub struct World {
     pub(crate) settings: SolverSettings,
     /// Joints between free bodies.
     pub(crate) joints: Vec<FreeJoint>,
+    /// The joints' forest, solved as one system when the joints close no loop.
+    pub(crate) joint_graph: JointGraph,
     /// Articulated trees.
     pub(crate) articulated: Vec<ArticulatedSystem>,
     /// Counters of the last step.
@@ -192,6 +196,7 @@ impl World {
             gravity,
             settings,
             joints: Vec::new(),
+            joint_graph: JointGraph::default(),
             articulated: Vec::new(),
             counters: StepCounters::default(),
             time: 0.0,
@@ -420,6 +425,7 @@ impl World {
                 j.set_substep(h);
                 j.prepare(&self.bodies);
             }
+            self.joint_graph.build(&self.joints, &self.bodies);
         }
         for i in 0..self.bodies.len() {
             self.bodies.dp[i] = V3::zeros();
@@ -474,11 +480,14 @@ impl World {
             self.counters.contact_colours = self.batches.colours;
             self.counters.contact_groups = self.batches.groups();
         }
-        let joint_soft = Softness::new(
-            self.settings.joint_hertz.min(0.25 * inv_h),
-            self.settings.joint_damping_ratio,
-            h,
-        );
+        let joint_soft = JointSoftness {
+            each: Softness::new(
+                self.settings.joint_hertz.min(0.25 * inv_h),
+                self.settings.joint_damping_ratio,
+                h,
+            ),
+            forest: JointSoftness::forest(h),
+        };
         let gravity = if eff.has(Effect::Gravity) {
             self.counters.mark(Stage::Gravity);
             self.gravity
@@ -541,6 +550,10 @@ impl World {
                 solve,
             );
             self.integrator.integrate_positions(&mut self.bodies, h);
+            if joints_on && self.joint_graph.usable() {
+                self.joint_graph
+                    .project_positions(&self.joints, &mut self.bodies);
+            }
             if coupled {
                 for (a, dq) in self.articulated.iter_mut().zip(&mut self.tree_dq) {
                     if link_proxies::in_solve(eff, a) {
@@ -666,16 +679,14 @@ impl World {
         &mut self,
         soft: &Softness,
         soft_static: &Softness,
-        joint_soft: &Softness,
+        joint_soft: &JointSoftness,
         inv_h: f64,
         max_push: f64,
         joints_on: bool,
         pass: SolvePass,
     ) {
         if joints_on {
-            for j in &mut self.joints {
-                j.solve(&mut self.bodies, joint_soft, pass.use_bias);
-            }
+            self.solve_joints(joint_soft, pass.use_bias);
         }
         if self.batched {
             self.batches.solve(&mut self.bodies, inv_h, max_push, pass);
@@ -704,6 +715,30 @@ impl World {
         }
         // Limits and prescribed motion last: each pass ends on their bounds and trajectories.
         self.solve_tree_drives(soft_static, pass, DriveGroup::Hard);
+    }
+
+    /// One pass over the joints: every constraint block at once when they form a forest,
+    /// one joint after another otherwise; then the driven coordinates.
+    fn solve_joints(&mut self, soft: &JointSoftness, use_bias: bool) {
+        for j in &mut self.joints {
+            j.begin_pass(&self.bodies, use_bias);
+        }
+        if use_bias {
+            self.joint_graph.factor(&self.joints, &self.bodies);
+        }
+        if self.joint_graph.usable() {
+            let block = FreeJoint::block_softness(&soft.forest, use_bias);
+            self.joint_graph
+                .solve_blocks(&mut self.joints, &mut self.bodies, block, use_bias);
+            for j in &mut self.joints {
+                j.solve_driven(&mut self.bodies, &soft.each, use_bias);
+            }
+        } else {
+            for j in &mut self.joints {
+                j.solve_block(&mut self.bodies, &soft.each, use_bias);
+                j.solve_driven(&mut self.bodies, &soft.each, use_bias);
+            }
+        }
     }
 
     /// One pass over the drives of `group` of the trees stepped inside the solve.

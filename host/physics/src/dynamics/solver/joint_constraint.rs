@@ -33,6 +33,7 @@ use crate::dynamics::BodySet;
 use crate::geometry::{M3, V3};
 
 type M6 = nalgebra::Matrix6<f64>;
+type V6 = nalgebra::Vector6<f64>;
 
 /// Driven coordinates a joint holds at most (cylindrical and universal joints have two).
 pub const MAX_DRIVEN_DOFS: usize = 2;
@@ -527,28 +528,89 @@ impl FreeJoint {
         self.ang_impulse = ang;
     }
 
-    /// One pass over the constraint rows as one block: `Δλ = −K⁻¹ (J V + β C) s_m − s_i λ`.
-    fn solve_block(&mut self, bodies: &mut BodySet, soft: (f64, f64, f64), use_bias: bool) {
+    /// How many constraint rows the joint has.
+    pub(crate) fn row_count(&self) -> usize {
+        self.n_rows
+    }
+
+    /// The constraint rows' Jacobian against body `i`'s velocity `(v, ω)` (world), one row
+    /// per constraint row and zero rows below them; zero for a body the joint does not join.
+    pub(crate) fn jacobian(&self, i: usize) -> M6 {
+        let sign = if i == self.b {
+            1.0
+        } else if i == self.a {
+            -1.0
+        } else {
+            return M6::zeros();
+        };
+        let mut j = M6::zeros();
+        for (k, r) in self.rows[..self.n_rows].iter().enumerate() {
+            let ang = if i == self.b { r.ang_b } else { r.ang_a };
+            for d in 0..3 {
+                j[(k, d)] = sign * r.lin[d];
+                j[(k, 3 + d)] = sign * ang[d];
+            }
+        }
+        j
+    }
+
+    /// The right-hand side of the block's solve: each row's rate plus `rate` times its
+    /// position error (with `use_bias`); zeros below the rows.
+    pub(crate) fn block_rhs(&self, bodies: &BodySet, rate: f64, use_bias: bool) -> V6 {
+        let mut rhs = if use_bias {
+            self.block_errors(bodies) * rate
+        } else {
+            V6::zeros()
+        };
+        for i in 0..self.n_rows {
+            rhs[i] += self.row_rate(bodies, &self.rows[i]);
+        }
+        rhs
+    }
+
+    /// Each row's position error (m or rad) at the current poses; zeros below the rows.
+    pub(crate) fn block_errors(&self, bodies: &BodySet) -> V6 {
+        let mut c = V6::zeros();
+        if self.n_rows == 0 {
+            return c;
+        }
+        let (lin_err, ang_err) = self.errors(bodies);
+        for (x, r) in c.iter_mut().zip(&self.rows[..self.n_rows]) {
+            *x = r.dir.dot(if r.linear { &lin_err } else { &ang_err });
+        }
+        c
+    }
+
+    /// Moves the bodies as an impulse `dl` on the rows would move them in unit time (a
+    /// displacement `M⁻¹ Jᵀ dl`, m and rad), adding it to their `dp` and `dtheta`.
+    pub(crate) fn displace(&self, bodies: &mut BodySet, dl: &V6) {
+        let (a, b) = (self.a, self.b);
+        let (mut pa, mut ta, mut pb, mut tb) = (V3::zeros(), V3::zeros(), V3::zeros(), V3::zeros());
+        for (r, &l) in self.rows[..self.n_rows].iter().zip(dl.iter()) {
+            pa -= r.lin * (self.ima * l);
+            ta -= self.ia * (r.ang_a * l);
+            pb += r.lin * (self.imb * l);
+            tb += self.ib * (r.ang_b * l);
+        }
+        for (i, dp, dt, moves) in [(a, pa, ta, self.ima > 0.0), (b, pb, tb, self.imb > 0.0)] {
+            if moves {
+                bodies.pos[i] += dp;
+                bodies.rot[i] = crate::algebra::exp_so3(&dt) * bodies.rot[i];
+                bodies.dp[i] += dp;
+                bodies.dtheta[i] += dt;
+            }
+        }
+    }
+
+    /// Applies `dl − s_i λ` to the rows' accumulated impulses and to the bodies.
+    pub(crate) fn apply_block(&mut self, bodies: &mut BodySet, dl: &V6, impulse_scale: f64) {
         let n = self.n_rows;
         if n == 0 {
             return;
         }
-        let (rate, ms, is) = soft;
-        let (lin_err, ang_err) = if use_bias {
-            self.errors(bodies)
-        } else {
-            (V3::zeros(), V3::zeros())
-        };
-        let mut rhs = nalgebra::Vector6::zeros();
-        for i in 0..n {
-            let r = &self.rows[i];
-            let c = r.dir.dot(if r.linear { &lin_err } else { &ang_err });
-            rhs[i] = self.row_rate(bodies, r) + rate * c;
-        }
-        let dl = -(self.k_inv * rhs) * ms;
         let (mut lin, mut ang) = (V3::zeros(), V3::zeros());
         for i in 0..n {
-            let d = dl[i] - is * self.lambda[i];
+            let d = dl[i] - impulse_scale * self.lambda[i];
             self.lambda[i] += d;
             let r = self.rows[i];
             self.apply_row(bodies, &r, d);
@@ -562,41 +624,58 @@ impl FreeJoint {
         self.ang_impulse = ang;
     }
 
-    /// One pass; `use_bias` adds the soft position correction (the first pass of a
-    /// substep), without it the pass only removes velocity errors (the relax pass). A joint
-    /// with driven coordinates solves its constraint block, then the coordinates' rows (with
-    /// their effective masses under the constraints), then the block again.
-    pub(crate) fn solve(&mut self, bodies: &mut BodySet, soft: &Softness, use_bias: bool) {
-        let driven = self.has_drives();
+    /// The pass's block coefficients `(bias rate, mass scale, impulse scale)`: the soft ones
+    /// with the position correction, rigid without.
+    pub(crate) fn block_softness(soft: &Softness, use_bias: bool) -> (f64, f64, f64) {
+        if use_bias {
+            (soft.bias_rate, soft.mass_scale, soft.impulse_scale)
+        } else {
+            (0.0, 1.0, 0.0)
+        }
+    }
+
+    /// Starts a pass: with `use_bias` (a substep's first pass) the rows and effective masses
+    /// from the current poses, otherwise the driven coordinates' values.
+    pub(crate) fn begin_pass(&mut self, bodies: &BodySet, use_bias: bool) {
         if use_bias {
             self.refresh(bodies);
             for d in &mut self.dofs {
                 d.begin_substep();
             }
-        } else if driven {
+        } else if self.has_drives() {
             let f = self.frames(bodies);
             for k in 0..self.kind.driven_dofs() {
                 self.dofs[k].q = self.coordinate(&f, k, self.dofs[k].q);
             }
         }
-        let block_soft = if use_bias {
-            (soft.bias_rate, soft.mass_scale, soft.impulse_scale)
-        } else {
-            (0.0, 1.0, 0.0)
-        };
-        self.solve_block(bodies, block_soft, use_bias);
-        if driven && self.n_rows > 0 {
-            // The rates the block chose (with its position correction), which the
-            // coordinates' impulses disturb and the block then restores.
+    }
+
+    /// One pass over this joint's block alone: `Δλ = −K⁻¹ (J V + β C) s_m − s_i λ`. A pass
+    /// over a joint is [`Self::begin_pass`], its block (this, or the joints' forest at once),
+    /// then [`Self::solve_driven`]; `use_bias` adds the soft position correction (a
+    /// substep's first pass), without it the pass only removes velocity errors (the relax
+    /// pass).
+    pub(crate) fn solve_block(&mut self, bodies: &mut BodySet, soft: &Softness, use_bias: bool) {
+        let (rate, ms, is) = Self::block_softness(soft, use_bias);
+        let rhs = self.block_rhs(bodies, rate, use_bias);
+        let dl = -(self.k_inv * rhs) * ms;
+        self.apply_block(bodies, &dl, is);
+    }
+
+    /// The driven coordinates' part of a pass, after the block: their rows, then the block's
+    /// rates restored to what the block chose (with its position correction).
+    pub(crate) fn solve_driven(&mut self, bodies: &mut BodySet, soft: &Softness, use_bias: bool) {
+        if !self.has_drives() {
+            return;
+        }
+        if self.n_rows > 0 {
             let target = self.block_rates(bodies);
             self.solve_dofs(bodies, soft, use_bias);
             self.restore_block(bodies, &target);
-        } else if driven {
+        } else {
             self.solve_dofs(bodies, soft, use_bias);
         }
-        if driven {
-            self.record_rates(bodies);
-        }
+        self.record_rates(bodies);
     }
 
     /// One pass over the driven coordinates' rows (motors, limits, armature).
