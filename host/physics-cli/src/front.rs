@@ -101,6 +101,13 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool, chart: Option<&Pat
     if cfg!(not(feature = "rapier-peer")) {
         return Err(missing());
     }
+    let points = measure(scenes, steps, true)?;
+    report(scenes, &points, json, chart)
+}
+
+/// Steps every scene at each of our settings and, with `rapier`, at each of Rapier's,
+/// alternating setting by setting so that both engines see the same machine load.
+pub(crate) fn measure(scenes: &[String], steps: Option<u64>, rapier: bool) -> Result<Vec<Point>> {
     let mut points = Vec::new();
     for scene in scenes {
         let s = load(scene, Some(false))?;
@@ -114,6 +121,9 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool, chart: Option<&Pat
                 ms_per_step: ms,
                 max_drift_m: drift,
             });
+            if !rapier {
+                continue;
+            }
             let (ms, drift) = rapier_run(&s, false, n, RapierSettings::Iterations(it))?;
             points.push(Point {
                 scene: scene.clone(),
@@ -124,9 +134,20 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool, chart: Option<&Pat
             });
         }
     }
-    let rows: Vec<FrontRow> = scenes.iter().flat_map(|s| front(s, &points)).collect();
+    Ok(points)
+}
+
+/// Prints `points` and their front (or one JSON object), and draws the chart to `chart`
+/// (`.svg` and `.png` beside each other) when given.
+pub(crate) fn report(
+    scenes: &[String],
+    points: &[Point],
+    json: bool,
+    chart: Option<&Path>,
+) -> Result<()> {
+    let rows: Vec<FrontRow> = scenes.iter().flat_map(|s| front(s, points)).collect();
     if let Some(path) = chart {
-        draw(scenes, &points, path)?;
+        draw(scenes, points, path)?;
     }
     if json {
         outln!("{}", serde_json::json!({ "points": points, "front": rows }));
@@ -141,7 +162,7 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool, chart: Option<&Pat
         "ms",
         "drift m"
     );
-    for p in &points {
+    for p in points {
         outln!(
             "{:<14} {:>7} {:>8} {:>10.3} {:>12.5}",
             p.scene,
@@ -152,6 +173,10 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool, chart: Option<&Pat
         );
     }
     outln!();
+    if !points.iter().any(|p| p.engine == "rapier") {
+        outln!("not measured: rapier3d (--features rapier-peer); no front");
+        return Ok(());
+    }
     outln!("the front: for each of Rapier's drift levels, our least time that holds it");
     outln!(
         "{:<14} {:>10} {:>12} {:>10} {:>9} {:>10} {:>7}",
@@ -251,6 +276,9 @@ where
                 .filter(|p| p.engine == engine)
                 .map(|p| (p.ms_per_step, p.max_drift_m))
                 .collect();
+            if series.is_empty() {
+                continue;
+            }
             crate::figure::curve(&mut chart, series, c, 4, label.to_string())?;
         }
         crate::figure::legend(&mut chart, SeriesLabelPosition::UpperRight, 13)?;

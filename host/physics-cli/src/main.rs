@@ -145,6 +145,13 @@ enum Cmd {
         /// differs. Writes nothing unless --out is given.
         #[arg(long, value_name = "DIR")]
         check: Option<std::path::PathBuf>,
+        /// Also the report's peer panels, into the same folder: drift against ms per step on
+        /// towers-1120 and pyramid-1240 (`front.{svg,png}`: ours over its substeps, rapier3d
+        /// over its iterations when built with `--features rapier-peer`) and the tumbling box
+        /// beside MuJoCo (when `python3` has `mujoco`) and rapier3d (`tumbling-peers.{svg,png}`).
+        /// With --json, one JSON object per line: the report, the front, the tumbling points.
+        #[arg(long, conflicts_with_all = ["quick", "step_cost"])]
+        peers: bool,
     },
     /// Comparisons with other engines (Pinocchio).
     Peers {
@@ -198,11 +205,12 @@ fn dispatch(cli: Cli) -> Result<()> {
             out,
             step_cost,
             check,
+            peers,
         } => {
             if step_cost {
                 accuracy::step_cost(json)
             } else {
-                accuracy::run(quick, json, out, check)
+                accuracy::run(quick, json, out, check, peers)
             }
         }
         Cmd::Run {

@@ -62,7 +62,7 @@ pub enum PeersCmd {
         #[arg(long, default_value = "python3")]
         python: String,
         /// The MuJoCo script.
-        #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../physics/peers/mujoco_tumbling.py"))]
+        #[arg(long, default_value = crate::tumbling_peers::MUJOCO_SCRIPT)]
         script: PathBuf,
         /// Draw the chart here (`.svg` and `.png`).
         #[arg(long)]

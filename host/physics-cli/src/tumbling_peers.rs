@@ -20,6 +20,11 @@ use virtual_physics::measure::accuracy::free_body::{self, Trajectory, OMEGA0};
 use virtual_physics::pipeline::IntegratorKind;
 
 /// The steps measured (s).
+/// The MuJoCo side of the comparison (run with `python3`, or `--python`).
+pub const MUJOCO_SCRIPT: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../physics/peers/mujoco_tumbling.py"
+);
 pub const STEPS: [f64; 4] = [1.0 / 60.0, 1.0 / 250.0, 1.0 / 1000.0, 1.0 / 4000.0];
 
 /// One engine and integrator at one step.

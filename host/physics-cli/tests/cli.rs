@@ -317,6 +317,16 @@ fn a_missing_peer_is_status_2_with_one_line() {
     }
 }
 
+/// The peer panels come with the full report only: `--peers` with `--quick` is refused as a
+/// usage error before anything runs.
+#[test]
+fn the_peer_panels_refuse_the_quick_sweep() {
+    let out = vphys(&["accuracy", "--quick", "--peers"]);
+    let err = assert_one_line_error(&out, "--peers with --quick");
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("--quick") || err.contains("--peers"), "{err}");
+}
+
 /// The bad-input reproducers of the library's tests: each file is a scene that must be
 /// rejected, before or during the run, with a user error (none present: nothing to check).
 #[test]

@@ -42,7 +42,13 @@ fn default_out(quick: bool) -> PathBuf {
 /// `vphys accuracy`: measures, writes the report (to `out`, or the default folder; with
 /// `check` only when `out` is given) and, with `check`, compares it with the committed report
 /// in that folder, failing when a row differs.
-pub fn run(quick: bool, json: bool, out: Option<PathBuf>, check: Option<PathBuf>) -> Result<()> {
+pub fn run(
+    quick: bool,
+    json: bool,
+    out: Option<PathBuf>,
+    check: Option<PathBuf>,
+    peers: bool,
+) -> Result<()> {
     let out = match (&check, out) {
         (_, Some(o)) => Some(o),
         (None, None) => Some(default_out(quick)),
@@ -60,6 +66,9 @@ pub fn run(quick: bool, json: bool, out: Option<PathBuf>, check: Option<PathBuf>
             outln!("wrote {}/accuracy.{{md,json,png,svg}}", out.display());
         }
     }
+    if peers {
+        peer_panels(json, out.as_deref())?;
+    }
     if let Some(dir) = check {
         let fresh = serde_json::to_value(&report)?;
         let outcome = check::check_dir(&fresh, &dir)?;
@@ -71,6 +80,36 @@ pub fn run(quick: bool, json: bool, out: Option<PathBuf>, check: Option<PathBuf>
                 outcome.differing,
                 outcome.compared,
                 dir.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// The stacking scenes of the front panel, and the steps each runs (every setting of both
+/// engines steps the scene this long from its start).
+const FRONT_SCENES: [&str; 2] = ["towers-1120", "pyramid-1240"];
+const FRONT_STEPS: u64 = 300;
+
+/// The report's peer panels, drawn into `out` when given: the stacking front (ours, and
+/// rapier3d when built in) and the tumbling box beside whichever peers are present.
+fn peer_panels(json: bool, out: Option<&Path>) -> Result<()> {
+    let scenes: Vec<String> = FRONT_SCENES.iter().map(|s| s.to_string()).collect();
+    let points = crate::front::measure(&scenes, Some(FRONT_STEPS), cfg!(feature = "rapier-peer"))?;
+    let front = out.map(|o| o.join("front.svg"));
+    crate::front::report(&scenes, &points, json, front.as_deref())?;
+    let tumbling = out.map(|o| o.join("tumbling-peers.svg"));
+    crate::tumbling_peers::run(
+        "python3",
+        Path::new(crate::tumbling_peers::MUJOCO_SCRIPT),
+        json,
+        tumbling.as_deref(),
+    )?;
+    if !json {
+        if let Some(out) = out {
+            outln!(
+                "wrote {}/front.{{png,svg}} and tumbling-peers.{{png,svg}}",
+                out.display()
             );
         }
     }
