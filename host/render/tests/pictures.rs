@@ -224,8 +224,6 @@ fn preview_silhouette(kind: CharacterKind) -> Option<(u32, u32, u32)> {
     let mut s = FrameSnapshot::at_rest(&reference_table_with([kind, kind]));
     s.time_s = 0.0; // the preview faces the camera at t = 0
     let img = render(&s, Screen::CharacterSelect)?;
-    img.save_png(std::path::Path::new(&format!("/tmp/h7/sel-{kind:?}.png")))
-        .unwrap();
     // The preview stands left of centre, between the team label and the name panel.
     let (x0, x1) = ((0.17 * W as f32) as u32, (0.38 * W as f32) as u32);
     let (y0, y1) = ((0.24 * H as f32) as u32, (0.66 * H as f32) as u32);
