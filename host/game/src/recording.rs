@@ -166,7 +166,7 @@ impl MatchRecording {
         }
     }
 
-    /// Checks format, version, table, and every step's shape and numbers.
+    /// Checks format, version, table, rules, and every step's shape and numbers.
     pub fn validate(&self) -> Result<(), RecordingError> {
         let bad = |m: String| Err(RecordingError::Malformed(m));
         if self.format != FORMAT {
@@ -178,6 +178,9 @@ impl MatchRecording {
         self.table
             .validate()
             .map_err(|e| RecordingError::Malformed(format!("table: {e}")))?;
+        self.rules
+            .validate(&self.table)
+            .map_err(|e| RecordingError::Malformed(e.to_string()))?;
         match &self.input {
             RecordedInput::Poses(steps) => {
                 for (i, step) in steps.iter().enumerate() {
@@ -285,6 +288,11 @@ mod tests {
         let err = MatchRecording::from_json(&bad.to_json()).unwrap_err();
         assert!(err.to_string().contains("7 rods"), "{err}");
         assert!(MatchRecording::from_json("{}").is_err());
+        // Rules out of range (a serve at -1.8e308 m/s sent the ball to infinity in one step).
+        let mut bad = MatchRecording::of_poses(1, Table::standard(), RulesConfig::default());
+        bad.rules.serve_speed_m_per_s = -1.797e308;
+        let err = MatchRecording::from_json(&bad.to_json()).unwrap_err();
+        assert!(err.to_string().contains("serve_speed_m_per_s"), "{err}");
         let text = rec.to_json().replace("\"version\":1", "\"version\":2");
         assert!(MatchRecording::from_json(&text).is_err());
     }

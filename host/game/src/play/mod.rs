@@ -178,9 +178,10 @@ impl Match {
     /// A new match: rods centred and upright, the ball resting on the centre spot until
     /// the kickoff.
     pub fn new(config: MatchConfig) -> Result<Match, MatchError> {
-        if config.rules.goals_to_win == 0 {
-            return Err(MatchError::Rules("goals_to_win must be at least 1".into()));
-        }
+        config
+            .rules
+            .validate(&config.table)
+            .map_err(|e| MatchError::Rules(e.to_string()))?;
         let arena = Arena::with_settings(&config.table, config.arena)?;
         let rules = Rules::new(config.table.clone(), config.rules);
         let n = config.table.rods.len();

@@ -25,8 +25,10 @@
 //! * **Kick** / **Bounce** events from contacts above a speed threshold, while in play.
 
 mod events;
+mod validate;
 
 pub use events::{Event, ServeReason, TimedEvent};
+pub use validate::RulesError;
 
 use crate::side::Side;
 use crate::table::Table;
