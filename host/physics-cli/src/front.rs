@@ -20,6 +20,8 @@ use crate::figure::Figure;
 use crate::rapier_peer::{max_drift, missing, rapier_run, RapierSettings};
 use crate::run::{load, stats, time_steps};
 
+/// The stacking scenes compared by default (`peers front`, `peers rapier`, `accuracy --peers`).
+pub const SCENES: [&str; 2] = ["towers-1120", "pyramid-1240"];
 /// Our accuracy knob: substeps per step (12 is the default).
 pub const OUR_SUBSTEPS: [usize; 6] = [2, 4, 8, 12, 16, 24];
 /// Rapier's: solver iterations per step (4 is its default).

@@ -105,7 +105,7 @@ pub struct Stacks {
     #[arg(long)]
     steps: Option<u64>,
     /// Scenes (built-in names or files).
-    #[arg(long, num_args = 1.., default_values_t = ["towers-1120".to_string(), "pyramid-1240".to_string()])]
+    #[arg(long, num_args = 1.., default_values_t = crate::front::SCENES.map(String::from))]
     scenes: Vec<String>,
 }
 

@@ -86,15 +86,13 @@ pub fn run(
     Ok(())
 }
 
-/// The stacking scenes of the front panel, and the steps each runs (every setting of both
-/// engines steps the scene this long from its start).
-const FRONT_SCENES: [&str; 2] = ["towers-1120", "pyramid-1240"];
+/// The steps each setting of the front panel runs from the scene's start.
 const FRONT_STEPS: u64 = 300;
 
 /// The report's peer panels, drawn into `out` when given: the stacking front (ours, and
 /// rapier3d when built in) and the tumbling box beside whichever peers are present.
 fn peer_panels(json: bool, out: Option<&Path>) -> Result<()> {
-    let scenes: Vec<String> = FRONT_SCENES.iter().map(|s| s.to_string()).collect();
+    let scenes: Vec<String> = crate::front::SCENES.iter().map(|s| s.to_string()).collect();
     let points = crate::front::measure(&scenes, Some(FRONT_STEPS), cfg!(feature = "rapier-peer"))?;
     let front = out.map(|o| o.join("front.svg"));
     crate::front::report(&scenes, &points, json, front.as_deref())?;
