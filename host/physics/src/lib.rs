@@ -54,3 +54,4 @@ pub use real::Real;
 pub mod geometry;
 pub mod pipeline;
 pub mod scene;
+pub mod transcendental;

@@ -71,7 +71,7 @@ pub trait Real:
 }
 
 macro_rules! impl_real_float {
-    ($t:ty) => {
+    ($t:ty, $($m:ident)::+) => {
         impl Real for $t {
             #[inline(always)]
             fn from_f64(x: f64) -> Self {
@@ -87,19 +87,19 @@ macro_rules! impl_real_float {
             }
             #[inline(always)]
             fn sin(self) -> Self {
-                <$t>::sin(self)
+                $($m)::+::sin(self)
             }
             #[inline(always)]
             fn cos(self) -> Self {
-                <$t>::cos(self)
+                $($m)::+::cos(self)
             }
             #[inline(always)]
             fn sin_cos(self) -> (Self, Self) {
-                <$t>::sin_cos(self)
+                $($m)::+::sin_cos(self)
             }
             #[inline(always)]
             fn atan2(self, x: Self) -> Self {
-                <$t>::atan2(self, x)
+                $($m)::+::atan2(self, x)
             }
             #[inline(always)]
             fn abs(self) -> Self {
@@ -113,5 +113,5 @@ macro_rules! impl_real_float {
     };
 }
 
-impl_real_float!(f32);
-impl_real_float!(f64);
+impl_real_float!(f32, crate::transcendental::single);
+impl_real_float!(f64, crate::transcendental);

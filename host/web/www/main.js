@@ -87,6 +87,8 @@ async function main() {
   window.spaceFoosball = {
     status: () => JSON.parse(game.status() || "{}"),
     decode: (bytes) => JSON.parse(game.decode_in_report(new Uint8Array(bytes))),
+    // The reference match as JSON text (its bits stay exact as text).
+    referenceMatch: () => game.reference_match(),
     connect: async () => {
       const [device] = await hid.requestDevice({ filters });
       if (device) await attach(device);

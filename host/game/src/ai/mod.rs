@@ -149,7 +149,7 @@ fn reach_for(table: &Table, rod: usize, ball: &BallState, ahead: f64) -> Reach {
     let [bx, by, _] = ball.position;
     let [vx, vy, _] = ball.velocity;
     let reach = table.reach_x_m(rod);
-    let speed = vx.hypot(vy);
+    let speed = virtual_physics::transcendental::hypot(vx, vy);
     if ahead.abs() > reach || !table.rod_covers_y(rod, by) {
         return Reach::No;
     }

@@ -60,7 +60,7 @@ pub(crate) struct Built {
 
 /// Rotation about `+y` by `angle` (rad): the rod's turn (0 = feet down).
 pub fn rot_y(angle: f64) -> M3 {
-    let (s, c) = angle.sin_cos();
+    let (s, c) = virtual_physics::transcendental::sin_cos(angle);
     M3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c)
 }
 

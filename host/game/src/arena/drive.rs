@@ -38,7 +38,8 @@ impl RodDrive {
         if wanted_m.abs() <= knee {
             wanted_m
         } else {
-            wanted_m.signum() * (knee + c * ((wanted_m.abs() - knee) / c).tanh())
+            wanted_m.signum()
+                * (knee + c * virtual_physics::transcendental::tanh((wanted_m.abs() - knee) / c))
         }
     }
 

@@ -16,6 +16,7 @@
 //! its kicks into OUT reports for the board.
 
 pub mod haptics;
+pub mod reference;
 mod rng;
 pub mod thread;
 
@@ -167,7 +168,7 @@ pub fn serve_jitter(rng: &mut SplitMix64, serve: &ServeSpec) -> ServeSpec {
     let angle = (rng.next_f64() * 2.0 - 1.0) * 0.4;
     let factor = 0.8 + 0.5 * rng.next_f64();
     let [vx, vy, vz] = serve.velocity;
-    let (s, c) = angle.sin_cos();
+    let (s, c) = virtual_physics::transcendental::sin_cos(angle);
     ServeSpec {
         velocity: [(vx * c - vy * s) * factor, (vx * s + vy * c) * factor, vz],
         ..*serve

@@ -86,8 +86,8 @@ impl Table {
     pub fn foot_xz(&self, rod: usize, angle_rad: f64) -> (f64, f64) {
         let reach = self.character_of(rod).foot_reach_m;
         (
-            self.rods[rod].x_m - reach * angle_rad.sin(),
-            self.field.rod_height_m - reach * angle_rad.cos(),
+            self.rods[rod].x_m - reach * virtual_physics::transcendental::sin(angle_rad),
+            self.field.rod_height_m - reach * virtual_physics::transcendental::cos(angle_rad),
         )
     }
 }

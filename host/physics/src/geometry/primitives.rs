@@ -187,7 +187,8 @@ pub fn plane_cylinder(
     let (ex, ey, ez) = (r.column(0), r.column(1), r.column(2));
     for k in 0..8 {
         let t = k as f64 * std::f64::consts::FRAC_PI_4;
-        let rim = (ex * t.cos() + ey * t.sin()) * radius;
+        let (s, c) = crate::transcendental::sin_cos(t);
+        let rim = (ex * c + ey * s) * radius;
         pts[2 * k] = p + rim + ez * hh;
         pts[2 * k + 1] = p + rim - ez * hh;
     }
@@ -434,7 +435,8 @@ impl Probe<'_> {
                 let (ex, ey, ez) = (r.column(0), r.column(1), r.column(2));
                 for k in 0..8 {
                     let t = k as f64 * std::f64::consts::FRAC_PI_4;
-                    let rim = (ex * t.cos() + ey * t.sin()) * radius;
+                    let (s, c) = crate::transcendental::sin_cos(t);
+                    let rim = (ex * c + ey * s) * radius;
                     out[3 * k] = (p + rim + ez * hh, 0.0);
                     out[3 * k + 1] = (p + rim - ez * hh, 0.0);
                     out[3 * k + 2] = (p + rim, 0.0);

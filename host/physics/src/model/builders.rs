@@ -32,12 +32,12 @@ impl Rng {
 const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
 fn rot_x(angle: f64) -> [[f64; 3]; 3] {
-    let (s, c) = angle.sin_cos();
+    let (s, c) = crate::transcendental::sin_cos(angle);
     [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]]
 }
 
 fn rot_z(angle: f64) -> [[f64; 3]; 3] {
-    let (s, c) = angle.sin_cos();
+    let (s, c) = crate::transcendental::sin_cos(angle);
     [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
 }
 

@@ -82,7 +82,13 @@ impl Trajectory {
                 amplitude,
                 frequency,
                 phase,
-            } => offset + amplitude * (2.0 * std::f64::consts::PI * frequency * t + phase).sin(),
+            } => {
+                offset
+                    + amplitude
+                        * crate::transcendental::sin(
+                            2.0 * std::f64::consts::PI * frequency * t + phase,
+                        )
+            }
         }
     }
 }

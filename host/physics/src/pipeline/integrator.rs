@@ -191,7 +191,7 @@ pub fn dexp_inv_right(theta: &V3, w: &V3) -> V3 {
         1.0 / 12.0 + t2 * (1.0 / 720.0 + t2 / 30240.0)
     } else {
         let t = t2.sqrt();
-        let (s, co) = t.sin_cos();
+        let (s, co) = crate::transcendental::sin_cos(t);
         1.0 / t2 - (1.0 + co) / (2.0 * t * s)
     };
     let tw = theta.cross(w);

@@ -138,3 +138,16 @@ pub fn status() -> String {
         None => s.status.clone(),
     })
 }
+
+/// The reference match ([`space_foosball::play::reference`]) played here, as JSON: what
+/// the browser test compares with the desktop's committed record (the wasm build steps
+/// with the same `libm` functions as a desktop build with `enhanced-determinism`).
+#[wasm_bindgen]
+pub fn reference_match() -> String {
+    use space_foosball::play::reference::{play_reference, REFERENCE_GOALS, REFERENCE_SEED};
+    let table = space_foosball::Table::standard();
+    match play_reference(&table, REFERENCE_SEED, REFERENCE_GOALS) {
+        Ok(outcome) => serde_json::to_string(&outcome).unwrap_or_default(),
+        Err(e) => serde_json::json!({ "error": e.to_string() }).to_string(),
+    }
+}

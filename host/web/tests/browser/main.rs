@@ -363,3 +363,23 @@ fn webhid_reports_move_the_rods_through_the_wasm_decoder_and_a_kick_sends_a_puls
     });
     assert_ne!(back["screen"], "board-lost", "{back}");
 }
+
+#[test]
+#[ignore = "needs the wasm bundle and Chromium: run by the web step of scripts/test-all"]
+fn the_reference_match_in_wasm_plays_as_the_desktop_recorded_it() {
+    // The desktop's record: `cargo test -p space-foosball --features enhanced-determinism
+    // --test cross_target` checks a desktop build against the same file.
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../game/tests/golden/reference-match.json");
+    let recorded: Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).expect("the record")).unwrap();
+    let mut b = open("seed=1");
+    let text = b.eval("spaceFoosball.referenceMatch()");
+    let played: Value = serde_json::from_str(text.as_str().expect("JSON text")).unwrap();
+    eprintln!("wasm: {played}");
+    assert!(played.get("error").is_none(), "{played}");
+    assert_eq!(
+        played, recorded,
+        "the wasm build played the reference match differently from the desktop's record"
+    );
+}

@@ -88,7 +88,7 @@ fn wrap(x: f64) -> f64 {
 fn angle_about(n: &V3, v: &V3, w: &V3) -> f64 {
     let vp = v - n * n.dot(v);
     let wp = w - n * n.dot(w);
-    n.dot(&vp.cross(&wp)).atan2(vp.dot(&wp))
+    crate::transcendental::atan2(n.dot(&vp.cross(&wp)), vp.dot(&wp))
 }
 
 /// A unit vector ⊥ unit `u`.

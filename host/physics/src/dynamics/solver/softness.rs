@@ -2,6 +2,8 @@
 //! spring of frequency `hertz` (Hz) and damping ratio `zeta`, integrated implicitly over a
 //! substep of `h` seconds.
 
+use crate::transcendental::{ln, powf};
+
 /// The three coefficients of a soft constraint.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Softness {
@@ -86,8 +88,8 @@ impl ContactStiffness {
             return self.hertz; // also a NaN ratio
         }
         // Geometric interpolation in log(ratio): even_hertz at 1, hertz at UNEVEN_MASS_RATIO.
-        let t = (mass_ratio.max(1.0).ln() / UNEVEN_MASS_RATIO.ln()).clamp(0.0, 1.0);
-        self.even_hertz * (self.hertz / self.even_hertz).powf(t)
+        let t = (ln(mass_ratio.max(1.0)) / ln(UNEVEN_MASS_RATIO)).clamp(0.0, 1.0);
+        self.even_hertz * powf(self.hertz / self.even_hertz, t)
     }
 
     /// The soft coefficients of such a contact.
