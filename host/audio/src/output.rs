@@ -6,7 +6,7 @@ use crate::{synth, Sound};
 use cpal::traits::{DeviceTrait, HostTrait, StreamTrait};
 use cpal::{FromSample, SampleFormat, SizedSample, StreamConfig};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::mpsc::{self, Receiver, Sender};
+use std::sync::mpsc::{self, Receiver, SyncSender};
 use std::sync::Arc;
 
 /// Set this environment variable to `0` or `off` to open a silent output even where an
@@ -29,8 +29,8 @@ pub struct AudioOutput {
 enum Sink {
     Device {
         /// Kept alive: dropping the stream stops the sound.
-        _stream: cpal::Stream,
-        to_audio_thread: Sender<Arc<[f32]>>,
+        stream: cpal::Stream,
+        to_audio_thread: SyncSender<Arc<[f32]>>,
         description: String,
     },
     Silent {
@@ -68,7 +68,7 @@ impl AudioOutput {
             Ok((stream, to_audio_thread, description)) => {
                 log::info!("sound on {description}");
                 AudioOutput::with_sink(Sink::Device {
-                    _stream: stream,
+                    stream,
                     to_audio_thread,
                     description,
                 })
@@ -118,10 +118,24 @@ impl AudioOutput {
             to_audio_thread, ..
         } = &self.sink
         {
-            // A closed channel means the stream died; sound is best effort.
-            let _ = to_audio_thread.send(samples);
+            // A full queue means the device is not taking sound (a browser's audio before
+            // a gesture, a stalled device): the sound is dropped rather than queued
+            // without bound. A closed one means the stream died. Sound is best effort.
+            let _ = to_audio_thread.try_send(samples);
         }
         self.played.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Asks the device to (re)start playing. Where the platform holds audio back until a
+    /// person's gesture (a browser's Web Audio), call it from a key press or a click;
+    /// elsewhere the stream already plays and this does nothing. Never fails: a refusal
+    /// leaves the output as it was.
+    pub fn resume(&self) {
+        if let Sink::Device { stream, .. } = &self.sink {
+            if let Err(e) = stream.play() {
+                log::debug!("audio did not resume: {e}");
+            }
+        }
     }
 
     /// Whether this output plays nothing.
@@ -151,7 +165,11 @@ impl AudioOutput {
     }
 }
 
-type Opened = (cpal::Stream, Sender<Arc<[f32]>>, String);
+type Opened = (cpal::Stream, SyncSender<Arc<[f32]>>, String);
+
+/// Sounds waiting for the audio thread at most; more are dropped (a burst of kicks and
+/// bounces in one frame is well under this).
+const QUEUE_SOUNDS: usize = 64;
 
 /// [`open_device`] with ALSA's own error messages (which it otherwise prints to stderr,
 /// e.g. "cannot find card '0'" on a machine without sound) captured and passed to
@@ -208,7 +226,7 @@ fn open_device() -> Result<Opened, String> {
         config.sample_rate,
         config.channels
     );
-    let (tx, rx) = mpsc::channel();
+    let (tx, rx) = mpsc::sync_channel(QUEUE_SOUNDS);
     let stream = match format {
         SampleFormat::F32 => build::<f32>(&device, config, rx),
         SampleFormat::F64 => build::<f64>(&device, config, rx),

@@ -1,6 +1,6 @@
 //! Space Foosball in a browser: the game compiled to WebAssembly, drawn by the same
-//! renderer through wgpu on WebGL2, played from the keyboard and mouse or from the real
-//! sensor board over WebHID.
+//! renderer through wgpu on WebGL2, played from the keyboard, mouse and a gamepad or from
+//! the real sensor board over WebHID, with sound through Web Audio.
 //!
 //! Target-independent (tested natively):
 //!
@@ -9,20 +9,26 @@
 //! * [`board`]: raw IN report bytes from the page → the protocol crate's decoder; OUT
 //!   reports queued for the page.
 //! * [`frame_stats`]: frame times in the page (the status line reports them).
-//! * [`keyboard`], [`keys`]: the page's emulated board, moved by keys and the mouse.
-//! * [`flow`], [`view`], [`script`]: the desktop program's own screens' flow, game → view
-//!   conversion and scripted keys, compiled here from the same source files.
+//! * [`keyboard`]: the page's emulated board, moved by keys, the mouse and a gamepad.
+//! * [`flow`], [`view`], [`script`], [`controls`]: the desktop program's own screens'
+//!   flow, game → view conversion, scripted keys and keyboard / mouse / gamepad controls,
+//!   compiled here from the same source files.
 //!
 //! On `wasm32` only, `web`: the winit window on the page's canvas, the animation-frame
 //! loop, and the functions the page's JavaScript calls (WebHID reports in, OUT reports
-//! out, the status line).
+//! out, the status line); and `gamepad`, the desktop's gamepad reader (gilrs, whose wasm
+//! backend reads the Gamepad API).
 
 pub mod board;
+#[path = "../../app/src/window/controls.rs"]
+pub mod controls;
 #[path = "../../app/src/window/flow.rs"]
 pub mod flow;
 pub mod frame_stats;
+#[cfg(target_arch = "wasm32")]
+#[path = "../../app/src/window/gamepad.rs"]
+mod gamepad;
 pub mod keyboard;
-pub mod keys;
 #[path = "../../app/src/window/script.rs"]
 pub mod script;
 pub mod session;

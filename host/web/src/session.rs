@@ -548,7 +548,7 @@ fn rods_pushed(rods: &RodInputs) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::keyboard::Key;
+    use crate::controls::Key;
     use foosball_protocol::{InReport, OutReport};
     use space_foosball::side::Side;
 
@@ -625,7 +625,8 @@ mod tests {
         let mut wall = 0.0;
         while s.clock_s() < 6.0 {
             for (code, pressed) in script.due(s.clock_s()) {
-                if let (Some(k), Some(kb)) = (code.and_then(crate::keys::map_key), s.keyboard()) {
+                if let (Some(k), Some(kb)) = (code.and_then(crate::controls::map_key), s.keyboard())
+                {
                     kb.key(k, pressed);
                 }
             }

@@ -4,6 +4,7 @@
 
 use crate::frame_stats::FrameStats;
 use crate::session::{FrameOut, WebSession};
+use foosball_audio::AudioOutput;
 use serde_json::{json, Value};
 
 /// What the page knows besides the session: frames drawn, since when, on what.
@@ -17,6 +18,8 @@ pub struct PageFigures<'a> {
     pub adapter: &'a str,
     /// The recent frame times.
     pub frame_stats: &'a FrameStats,
+    /// Where the sounds go.
+    pub audio: &'a AudioOutput,
 }
 
 /// The status of `session` after the frame `last` (none before the first).
@@ -69,5 +72,10 @@ pub fn status(session: &mut WebSession, last: Option<&FrameOut>, page: PageFigur
             "reconnects": link.reconnects,
         },
         "out_reports": out_reports,
+        "sound": {
+            "output": page.audio.device_description(),
+            "notice": page.audio.notice(),
+            "played": page.audio.played(),
+        },
     })
 }

@@ -5,6 +5,10 @@
 // `?hid=fake` replaces navigator.hid by a scripted device (window.fakeHid) that the
 // browser test drives: its `input(bytes)` dispatches an `inputreport` event exactly as
 // a real device does, its `sent` lists the OUT reports the game sent.
+//
+// `?pad=fake` replaces navigator.getGamepads by one scripted gamepad of the standard
+// mapping (window.fakePad), whose `axes` and `buttons` the browser test sets; the game
+// reads it through gilrs's Gamepad API backend as it would a real one.
 import init, * as game from "./pkg/space_foosball_web.js";
 
 const params = new URLSearchParams(location.search);
@@ -49,6 +53,20 @@ class FakeHid extends EventTarget {
     event.device = this.device;
     this.dispatchEvent(event);
   }
+}
+
+if (params.get("pad") === "fake") {
+  const pad = {
+    id: "scripted gamepad",
+    index: 0,
+    connected: true,
+    mapping: "standard",
+    timestamp: 0,
+    axes: [0, 0, 0, 0],
+    buttons: Array.from({ length: 17 }, () => ({ pressed: false, touched: false, value: 0 })),
+  };
+  window.fakePad = pad;
+  Object.defineProperty(navigator, "getGamepads", { value: () => [pad, null, null, null] });
 }
 
 let current = null;

@@ -1,11 +1,12 @@
-//! Keyboard, mouse and gamepad → the emulated board's rods.
+//! Keyboard, mouse and gamepad → targets for the emulated board's rods.
 //!
-//! With no board plugged in the game runs the built-in emulated board, whose rods follow
-//! live targets ([`foosball_sim::motion::live::LiveHandle`]) at a bounded hand speed.
-//! [`Controls`] keeps one target per rod in the **table frame** (slide m along `+y`,
-//! angle rad about `+y`) and writes them to the emulated paddles in the paddle frame
-//! (`× Rod::handle_sign`, see `space_foosball::input`). The keyboard and mouse drive one
-//! rod of one team at a time; a gamepad drives a rod of the other team.
+//! With no board plugged in the game runs an emulated board whose rods follow targets at
+//! a bounded hand speed: on the desktop the built-in emulated board's live targets, in
+//! the browser the page's emulated board (which compiles this file). [`Controls`] keeps
+//! one target per rod in the **table frame** (slide m along `+y`, angle rad about `+y`)
+//! and hands them out in the paddle frame (`× Rod::handle_sign`, see
+//! `space_foosball::input`) by [`Controls::paddle_targets`]. The keyboard and mouse
+//! drive one rod of one team at a time; a gamepad drives a rod of the other team.
 //!
 //! | input | effect |
 //! |---|---|
@@ -17,11 +18,10 @@
 //! | `Tab` | play the other team |
 //! | gamepad: left stick slide, right stick spin, `A` kick, `LB`/`RB` choose rod, `Start` push | the other team's rods |
 
-use foosball_sim::motion::live::LiveHandle;
-use foosball_sim::motion::RodPose as PaddlePose;
 use space_foosball::side::Side;
 use space_foosball::table::Table;
 use std::f64::consts::TAU;
+use winit::keyboard::KeyCode;
 
 /// Slide per pixel of vertical mouse motion, m.
 pub const MOUSE_SLIDE_M_PER_PX: f64 = 0.0012;
@@ -57,6 +57,34 @@ pub enum Key {
     Push,
     /// Switch to the other team.
     SwitchTeam,
+}
+
+/// The emulated board's control for a physical key (layout independent: `W` is the key
+/// where US keyboards have W).
+pub fn map_key(code: KeyCode) -> Option<Key> {
+    Some(match code {
+        KeyCode::Digit1 => Key::Rod(0),
+        KeyCode::Digit2 => Key::Rod(1),
+        KeyCode::Digit3 => Key::Rod(2),
+        KeyCode::Digit4 => Key::Rod(3),
+        KeyCode::KeyW | KeyCode::ArrowUp => Key::SlideAway,
+        KeyCode::KeyS | KeyCode::ArrowDown => Key::SlideNear,
+        KeyCode::KeyD | KeyCode::ArrowRight => Key::SpinForward,
+        KeyCode::KeyA | KeyCode::ArrowLeft => Key::SpinBack,
+        KeyCode::Space => Key::Kick,
+        KeyCode::Enter | KeyCode::NumpadEnter => Key::Push,
+        KeyCode::Tab => Key::SwitchTeam,
+        _ => return None,
+    })
+}
+
+/// A stick or mouse value, or nothing where it is not a number.
+fn finite_or_zero(v: f64) -> f64 {
+    if v.is_finite() {
+        v
+    } else {
+        0.0
+    }
 }
 
 /// The one rod a device drives at a time.
@@ -272,8 +300,17 @@ impl Controls {
         }
     }
 
-    /// Relative mouse motion, pixels (`dy` > 0 = down).
+    /// Lets go of every held key (the window lost focus: their releases never arrive).
+    pub fn release_all(&mut self) {
+        self.held = [false; 4];
+        self.end_push(0);
+    }
+
+    /// Relative mouse motion, pixels (`dy` > 0 = down). Non-finite motion is ignored.
     pub fn mouse_motion(&mut self, dx: f64, dy: f64) {
+        if !(dx.is_finite() && dy.is_finite()) {
+            return;
+        }
         let rod = self.keyboard_rod();
         if let Some(r) = rod {
             // Up on the screen is away from the player: +y for Home, −y for Away.
@@ -283,15 +320,15 @@ impl Controls {
         self.spin_by(rod, dx * MOUSE_SPIN_RAD_PER_PX);
     }
 
-    /// Mouse wheel, lines (> 0 = away from the user: spin forward).
+    /// Mouse wheel, lines (> 0 = away from the user: spin forward). Non-finite is ignored.
     pub fn wheel(&mut self, lines: f64) {
         let rod = self.keyboard_rod();
-        self.spin_by(rod, lines * WHEEL_RAD_PER_LINE);
+        self.spin_by(rod, finite_or_zero(lines) * WHEEL_RAD_PER_LINE);
     }
 
-    /// Advances held keys and the gamepad by `dt_s` seconds.
+    /// Advances held keys and the gamepad by `dt_s` seconds (at most 0.1 s a call).
     pub fn tick(&mut self, dt_s: f64, pad: Option<PadState>) {
-        let dt = dt_s.clamp(0.0, 0.1);
+        let dt = finite_or_zero(dt_s).clamp(0.0, 0.1);
         let rod = self.keyboard_rod();
         if let Some(r) = rod {
             let away = self.rods[r].sign;
@@ -311,12 +348,11 @@ impl Controls {
             let rod = self.pad_rod();
             if let Some(r) = rod {
                 let away = self.rods[r].sign;
-                self.slide_by(
-                    rod,
-                    p.slide.clamp(-1.0, 1.0) * away * PAD_SLIDE_M_PER_S * dt,
-                );
+                let slide = finite_or_zero(p.slide).clamp(-1.0, 1.0);
+                self.slide_by(rod, slide * away * PAD_SLIDE_M_PER_S * dt);
             }
-            self.spin_by(rod, p.spin.clamp(-1.0, 1.0) * PAD_SPIN_RAD_PER_S * dt);
+            let spin = finite_or_zero(p.spin).clamp(-1.0, 1.0);
+            self.spin_by(rod, spin * PAD_SPIN_RAD_PER_S * dt);
             if p.kick {
                 self.spin_by(rod, TAU);
             }
@@ -328,14 +364,13 @@ impl Controls {
         }
     }
 
-    /// Writes every rod's target to the emulated board (paddle frame, by port).
-    pub fn apply(&self, live: &LiveHandle) {
-        for (info, t) in self.rods.iter().zip(&self.targets) {
-            live.set_target(
-                info.port,
-                PaddlePose::new(info.sign * t[0], info.sign * t[1]),
-            );
-        }
+    /// Every rod's target for the emulated board, in table-rod order: its port and
+    /// `[axial_m, angle_rad]` in the paddle frame.
+    pub fn paddle_targets(&self) -> impl Iterator<Item = (usize, [f64; 2])> + '_ {
+        self.rods
+            .iter()
+            .zip(&self.targets)
+            .map(|(info, t)| (info.port, [info.sign * t[0], info.sign * t[1]]))
     }
 }
 
@@ -404,10 +439,41 @@ mod tests {
         c.mouse_motion(0.0, -10.0); // up: away from the Away player = −y
         let t = c.target(a).unwrap();
         assert!(t[0] < 0.0);
-        let live = LiveHandle::default();
-        c.apply(&live);
-        let p = live.targets()[table.rods[a].port];
-        assert!((p.axial_m - (-t[0])).abs() < 1e-12 && p.axial_m > 0.0);
+        let (port, p) = c.paddle_targets().nth(a).unwrap();
+        assert_eq!(port, table.rods[a].port);
+        // Away's handles are on the other side: the paddle frame is the table's mirrored.
+        assert!((p[0] - (-t[0])).abs() < 1e-12 && p[0] > 0.0);
+    }
+
+    #[test]
+    fn the_desktop_keys_map_to_controls_and_nothing_else() {
+        assert_eq!(map_key(KeyCode::Digit3), Some(Key::Rod(2)));
+        assert_eq!(map_key(KeyCode::ArrowUp), Some(Key::SlideAway));
+        assert_eq!(map_key(KeyCode::Space), Some(Key::Kick));
+        assert_eq!(map_key(KeyCode::Enter), Some(Key::Push));
+        assert_eq!(map_key(KeyCode::KeyQ), None);
+    }
+
+    #[test]
+    fn non_finite_input_moves_nothing_and_release_all_lets_go() {
+        let table = Table::standard();
+        let mut c = Controls::new(&table);
+        let r = c.keyboard_rod().unwrap();
+        c.mouse_motion(f64::NAN, f64::INFINITY);
+        c.wheel(f64::NEG_INFINITY);
+        let pad = PadState {
+            slide: f64::NAN,
+            spin: f64::INFINITY,
+            ..PadState::default()
+        };
+        c.tick(f64::NAN, Some(pad));
+        c.tick(0.05, Some(pad));
+        assert!(c.paddle_targets().all(|(_, t)| t == [0.0, 0.0]));
+        c.key(Key::SlideAway, true);
+        c.key(Key::Push, true);
+        c.release_all();
+        c.tick(0.05, None);
+        assert_eq!(c.target(r), Some([0.0, 0.0]));
     }
 
     #[test]

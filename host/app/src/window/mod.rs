@@ -24,11 +24,12 @@ pub mod session;
 
 use anyhow::{anyhow, Context, Result};
 use board::BoardChoice;
-use controls::{Controls, Key};
+use controls::{map_key, Controls};
 use flow::Stage;
 use foosball_audio::AudioOutput;
 use foosball_render::{DrawTimes, PresentChoice, WindowRenderer};
 use foosball_sim::motion::live::LiveHandle;
+use foosball_sim::motion::RodPose as PaddlePose;
 use gamepad::Gamepads;
 use script::Script;
 use session::{FrameOut, Session, SessionOptions};
@@ -364,7 +365,9 @@ impl App {
         let pad = self.pads.state();
         self.controls.tick(dt, pad);
         if let Some(live) = &self.live {
-            self.controls.apply(live);
+            for (port, [axial_m, angle_rad]) in self.controls.paddle_targets() {
+                live.set_target(port, PaddlePose::new(axial_m, angle_rad));
+            }
         }
         let mut out = match self.session.frame() {
             Ok(o) => o,
@@ -429,25 +432,6 @@ impl App {
             el.exit();
         }
     }
-}
-
-/// The emulated board's key for a physical key (layout independent: `W` is the key
-/// where US keyboards have W).
-fn map_key(code: KeyCode) -> Option<Key> {
-    Some(match code {
-        KeyCode::Digit1 => Key::Rod(0),
-        KeyCode::Digit2 => Key::Rod(1),
-        KeyCode::Digit3 => Key::Rod(2),
-        KeyCode::Digit4 => Key::Rod(3),
-        KeyCode::KeyW | KeyCode::ArrowUp => Key::SlideAway,
-        KeyCode::KeyS | KeyCode::ArrowDown => Key::SlideNear,
-        KeyCode::KeyD | KeyCode::ArrowRight => Key::SpinForward,
-        KeyCode::KeyA | KeyCode::ArrowLeft => Key::SpinBack,
-        KeyCode::Space => Key::Kick,
-        KeyCode::Enter | KeyCode::NumpadEnter => Key::Push,
-        KeyCode::Tab => Key::SwitchTeam,
-        _ => return None,
-    })
 }
 
 impl ApplicationHandler for App {
@@ -518,7 +502,11 @@ impl ApplicationHandler for App {
                 state: ElementState::Pressed,
                 ..
             } => self.grab_mouse(true),
-            WindowEvent::Focused(false) => self.grab_mouse(false),
+            WindowEvent::Focused(false) => {
+                self.grab_mouse(false);
+                // Keys released while the window had no focus never arrive: let go of all.
+                self.controls.release_all();
+            }
             WindowEvent::RedrawRequested => self.redraw(el),
             _ => {}
         }

@@ -10,12 +10,13 @@
 
 mod exports;
 
+use crate::controls::map_key;
 use crate::frame_stats::FrameStats;
-use crate::keyboard::Key;
-use crate::keys::map_key;
+use crate::gamepad::Gamepads;
 use crate::script::Script;
 use crate::session::WebSession;
 use exports::{with_shared, Shared};
+use foosball_audio::AudioOutput;
 use foosball_render::{PresentChoice, WindowRenderer};
 use space_foosball::table::Table;
 use std::sync::Arc;
@@ -74,11 +75,21 @@ fn run() -> anyhow::Result<()> {
         None => Script::default(),
     };
     let session = WebSession::new(Table::standard(), seed)?;
+    let pads = Gamepads::open();
+    if let Some(n) = &pads.notice {
+        web_sys::console::warn_1(&format!("space-foosball: {n}").into());
+    }
+    // Web Audio: the browser holds it suspended until a person's gesture on the page,
+    // after which `AudioOutput::resume` starts it.
+    let audio = AudioOutput::open();
     let event_loop = EventLoop::new().map_err(|e| anyhow::anyhow!("no event loop: {e}"))?;
     event_loop.set_control_flow(ControlFlow::Wait);
     event_loop.spawn_app(App {
         session,
         script,
+        pads,
+        audio,
+        audio_resumed_s: f64::NEG_INFINITY,
         window: None,
         renderer: None,
         started: now_s(),
@@ -92,6 +103,10 @@ fn run() -> anyhow::Result<()> {
 struct App {
     session: WebSession,
     script: Script,
+    pads: Gamepads,
+    audio: AudioOutput,
+    /// The page clock when the sound was last asked to resume, s.
+    audio_resumed_s: f64,
     window: Option<Arc<Window>>,
     renderer: Option<WindowRenderer>,
     /// The page clock when the game started, s.
@@ -106,6 +121,17 @@ impl App {
         self.failed = true;
         show_message(&message);
         with_shared(|s| s.error = Some(message));
+    }
+
+    /// Asks the browser to start the sound: at once after a person's key or click (a
+    /// gesture the page's audio may start on), else at most once a second (a gesture
+    /// elsewhere on the page, such as the board's connect button, also allows it).
+    fn resume_audio(&mut self, gesture: bool) {
+        let now = now_s();
+        if gesture || now - self.audio_resumed_s >= 1.0 {
+            self.audio_resumed_s = now;
+            self.audio.resume();
+        }
     }
 
     fn key(&mut self, code: KeyCode, pressed: bool) {
@@ -175,6 +201,11 @@ impl App {
             }
         }
         self.take_page_input();
+        let pad = self.pads.state();
+        if let Some(kb) = self.session.keyboard() {
+            kb.gamepad(pad);
+        }
+        self.resume_audio(false);
         let mut out = match self.session.frame(now) {
             Ok(o) => o,
             Err(e) => return self.fail(format!("space-foosball: {e:#}")),
@@ -182,13 +213,16 @@ impl App {
         if let Some(kb) = self.session.keyboard() {
             let rod = kb.keyboard_key_number();
             let team = format!("{:?}", kb.keyboard_team()).to_uppercase();
-            let held = kb.keyboard_rod();
+            let held = [kb.keyboard_rod(), kb.pad_rod()];
             out.hud
                 .lines
                 .insert(0, format!("KEYBOARD: {team} ROD {rod}"));
             if out.stage == crate::flow::Stage::Playing {
-                out.snapshot.held_rods.extend(held);
+                out.snapshot.held_rods.extend(held.into_iter().flatten());
             }
+        }
+        for sound in out.sounds.drain(..) {
+            self.audio.play(sound);
         }
         while let Some(r) = self.session.take_out_report() {
             with_shared(|s| s.push_out(r.to_vec()));
@@ -207,6 +241,7 @@ impl App {
             seconds: now - self.started,
             adapter: &adapter,
             frame_stats: &self.frame_stats,
+            audio: &self.audio,
         };
         let status = crate::status::status(&mut self.session, Some(&out), page);
         with_shared(|s| s.status = status.to_string());
@@ -271,7 +306,12 @@ impl ApplicationHandler for App {
                         ..
                     },
                 ..
-            } => self.key(code, state == ElementState::Pressed),
+            } => {
+                if state == ElementState::Pressed {
+                    self.resume_audio(true);
+                }
+                self.key(code, state == ElementState::Pressed);
+            }
             WindowEvent::MouseWheel { delta, .. } => {
                 let lines = match delta {
                     MouseScrollDelta::LineDelta(_, y) => f64::from(y),
@@ -284,20 +324,15 @@ impl ApplicationHandler for App {
             WindowEvent::MouseInput {
                 state: ElementState::Pressed,
                 ..
-            } => self.grab_mouse(true),
+            } => {
+                self.resume_audio(true);
+                self.grab_mouse(true);
+            }
             WindowEvent::Focused(false) => {
                 self.grab_mouse(false);
                 // Keys released while the page had no focus never arrive: let go of all.
                 if let Some(kb) = self.session.keyboard() {
-                    for k in [
-                        Key::SlideAway,
-                        Key::SlideNear,
-                        Key::SpinForward,
-                        Key::SpinBack,
-                        Key::Push,
-                    ] {
-                        kb.key(k, false);
-                    }
+                    kb.release_all();
                 }
             }
             WindowEvent::RedrawRequested => self.redraw(),

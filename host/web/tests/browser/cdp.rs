@@ -40,6 +40,8 @@ impl Browser {
                 "--use-angle=swiftshader",
                 "--enable-unsafe-swiftshader",
                 "--ignore-gpu-blocklist",
+                // Web Audio starts without a person's gesture (the scripted keys are none).
+                "--autoplay-policy=no-user-gesture-required",
                 "--remote-debugging-port=0",
                 "--remote-allow-origins=*",
             ])

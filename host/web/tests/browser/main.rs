@@ -3,9 +3,11 @@
 //! `$SPACE_FOOSBALL_WEB_DIST`) from a loopback server and
 //!
 //! * plays a match from scripted keys (the desktop's `start` script: push, push, slide,
-//!   kick) and checks the canvas as the desktop's window test checks its frame: not
-//!   blank, the cloth, both teams' colours, the score display, and the ball where the
-//!   physics puts it (the picture and the status are taken in the same animation frame);
+//!   kick), with the menu's sounds on Web Audio and a scripted gamepad on the other
+//!   team's goalkeeper, and checks the canvas as the desktop's window test checks its
+//!   frame: not blank, the cloth, both teams' colours, the score display, and the ball
+//!   where the physics puts it (the picture and the status are taken in the same
+//!   animation frame);
 //! * feeds recorded IN reports at the WebHID boundary (a scripted `HIDDevice` whose
 //!   `inputreport` events carry the bytes) through the wasm decoder and checks the rod
 //!   poses against the same reports through the tracker natively; plays a match from
@@ -88,7 +90,7 @@ fn numbers(v: &Value) -> Vec<f64> {
 #[test]
 #[ignore = "needs the wasm bundle and Chromium: run by the web step of scripts/test-all"]
 fn a_match_from_scripted_keys_runs_and_the_canvas_shows_it() {
-    let mut b = open("seed=3&script=start");
+    let mut b = open("seed=3&script=start&pad=fake");
     // The script pushes at 1 s and 2 s: a match as Home against the computer.
     let s = b.wait_for("spaceFoosball.status()", 120.0, "match time 1.5 s", |v| {
         v.get("error").is_some()
@@ -111,6 +113,20 @@ fn a_match_from_scripted_keys_runs_and_the_canvas_shows_it() {
             .is_some_and(|s| *s > 0.03)
     });
     let t0 = s["match_time_s"].as_f64().unwrap();
+    // The menu's sounds went to Web Audio (the pushes that started the match).
+    assert!(s["sound"]["output"].is_string(), "no sound output: {s}");
+    assert!(s["sound"]["played"].as_u64().unwrap_or(0) > 0, "{s}");
+    // A gamepad (the page's scripted one, read through gilrs's Gamepad API backend)
+    // drives the other team's goalkeeper: the left stick up (axes[1] = −1 in the
+    // Gamepad API) slides it away from Away's player, −y.
+    b.eval("fakePad.axes[1] = -1; fakePad.timestamp += 1; true");
+    let away_keeper = Table::standard().rods_of(Side::Away).last().unwrap();
+    b.wait_for("spaceFoosball.status()", 60.0, "the gamepad's slide", |v| {
+        numbers(&v["input_rods"][away_keeper])
+            .first()
+            .is_some_and(|s| *s < -0.03)
+    });
+    b.eval("fakePad.axes[1] = 0; true");
 
     // The picture of play: after a goal, the ceremony shows the ball in the goal, so a
     // capture that lands on it waits for the re-serve (the match runs at a fraction of real
