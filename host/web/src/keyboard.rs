@@ -90,6 +90,16 @@ impl KeyboardBoard {
         self.controls.key(key, pressed);
     }
 
+    /// Puts the keyboard on table rod `rod` (calibration mode's rod).
+    pub fn select_rod(&mut self, rod: usize) {
+        self.controls.select_rod(rod);
+    }
+
+    /// Turns table rod `rod`'s target by `turns` full turns (calibration's T and G).
+    pub fn turn_paddle(&mut self, rod: usize, turns: f64) {
+        self.controls.turn_paddle(rod, turns);
+    }
+
     /// Lets go of every held key (the page lost focus).
     pub fn release_all(&mut self) {
         self.controls.release_all();

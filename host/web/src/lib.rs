@@ -6,13 +6,15 @@
 //!
 //! * [`session`]: the board, the screens, the match run ahead in fixed 1 ms steps by the
 //!   frame's elapsed time ([`stepper`]), what each frame shows, plays and sends.
+//! * [`calibration_store`]: where the page keeps the calibration (`localStorage`), read
+//!   back as untrusted input.
 //! * [`board`]: raw IN report bytes from the page → the protocol crate's decoder; OUT
 //!   reports queued for the page.
 //! * [`frame_stats`]: frame times in the page (the status line reports them).
 //! * [`keyboard`]: the page's emulated board, moved by keys, the mouse and a gamepad.
-//! * [`flow`], [`view`], [`script`], [`controls`]: the desktop program's own screens'
-//!   flow, game → view conversion, scripted keys and keyboard / mouse / gamepad controls,
-//!   compiled here from the same source files.
+//! * [`flow`], [`view`], [`script`], [`controls`], [`calibrate`]: the desktop program's
+//!   own screens' flow, game → view conversion, scripted keys, keyboard / mouse / gamepad
+//!   controls and calibration mode, compiled here from the same source files.
 //!
 //! On `wasm32` only, `web`: the winit window on the page's canvas, the animation-frame
 //! loop, and the functions the page's JavaScript calls (WebHID reports in, OUT reports
@@ -20,6 +22,9 @@
 //! backend reads the Gamepad API).
 
 pub mod board;
+#[path = "../../app/src/window/calibrate.rs"]
+pub mod calibrate;
+pub mod calibration_store;
 #[path = "../../app/src/window/controls.rs"]
 pub mod controls;
 #[path = "../../app/src/window/flow.rs"]

@@ -10,8 +10,16 @@
 //! between the two newest physics steps as on the desktop, and kicks of a person's rod
 //! become haptic OUT reports. A lost board pauses play (match time stops) and shows the
 //! board-lost screen; when reports flow again, play resumes.
+//!
+//! Calibration mode is the desktop's too ([`crate::calibrate::Calibrator`]): C at the
+//! attract screen stops the match and guides the player through each rod's motion,
+//! reading the board's raw counts; the fits are used at once and kept in a
+//! [`CalibrationStore`] (the browser's `localStorage` on the page), from which the next
+//! visit loads them.
 
 use crate::board::BrowserBoard;
+use crate::calibrate::Calibrator;
+use crate::calibration_store::{self, CalibrationStore};
 use crate::flow::{Action, Flow, Stage, PUSH_SPEED_M_S};
 use crate::keyboard::KeyboardBoard;
 use crate::stepper::Stepper;
@@ -24,7 +32,7 @@ use foosball_render::{
 };
 use space_foosball::input::calibration::Calibration;
 use space_foosball::input::paddles::{
-    BoardInput, InputHealth, RodInputs, MOUSE_PACKET_PREDICTION_MS, PS2_WIRE_LEAD_MS,
+    BoardInput, InputHealth, PaddleTracker, RodInputs, MOUSE_PACKET_PREDICTION_MS, PS2_WIRE_LEAD_MS,
 };
 use space_foosball::play::{KickHaptics, Match, MatchConfig, MatchSnapshot, RodController};
 use space_foosball::rules::{Event, Phase, TimedEvent};
@@ -36,6 +44,8 @@ pub const GOAL_CEREMONY_S: f64 = 2.5;
 pub const QUIET_BOUNCE_M_S: f64 = 0.25;
 /// The most reports one physics step takes from the board (a backlog after a stall).
 const REPORTS_PER_STEP: usize = 32;
+/// How long a notice (calibration saved, or not used) stays on screen, s.
+const NOTICE_S: f64 = 6.0;
 
 /// What one frame shows and plays.
 #[derive(Debug, Clone)]
@@ -105,6 +115,19 @@ pub struct WebSession {
     seed: u64,
     key_hints: Vec<String>,
     counters: Counters,
+    /// Calibration mode, while it runs.
+    calibrator: Option<Calibrator>,
+    /// The calibration the tracker reads the board through.
+    calibration: Calibration,
+    /// Where fitted calibrations are kept (none: used, not kept).
+    store: Option<Box<dyn CalibrationStore>>,
+    /// A message for the screen, and until when (the frames' clock, s; none: from the
+    /// next frame on for [`NOTICE_S`]).
+    notice: Option<(String, Option<f64>)>,
+    /// The table at rest (shown behind calibration, where no match runs).
+    rest: MatchSnapshot,
+    /// The clock of the newest frame, s.
+    now_s: f64,
 }
 
 /// How long the key hints stay fully shown once play starts, s.
@@ -112,12 +135,22 @@ const HINTS_SHOWN_S: f64 = 4.0;
 /// How long they then take to fade out, s.
 const HINTS_FADE_S: f64 = 2.0;
 
-fn board_input(board: BrowserBoard, table: &Table) -> BoardInput<BrowserBoard> {
-    let mut input = BoardInput::new(board, table, Calibration::default());
-    input
-        .tracker_mut()
-        .set_prediction_ms(MOUSE_PACKET_PREDICTION_MS);
-    input.tracker_mut().set_prediction_lead_ms(PS2_WIRE_LEAD_MS);
+/// The tracker of `table`'s rods read through `calibration`, predicting the pose
+/// between mouse packets as on the desktop.
+fn predicting_tracker(table: &Table, calibration: Calibration) -> PaddleTracker {
+    let mut tracker = PaddleTracker::new(table, calibration);
+    tracker.set_prediction_ms(MOUSE_PACKET_PREDICTION_MS);
+    tracker.set_prediction_lead_ms(PS2_WIRE_LEAD_MS);
+    tracker
+}
+
+fn board_input(
+    board: BrowserBoard,
+    table: &Table,
+    calibration: Calibration,
+) -> BoardInput<BrowserBoard> {
+    let mut input = BoardInput::new(board, table, calibration);
+    *input.tracker_mut() = predicting_tracker(table, calibration);
     input
 }
 
@@ -128,12 +161,13 @@ impl WebSession {
         let board_name = "emulated (keyboard and mouse)".to_string();
         let mut board = BrowserBoard::new(board_name.clone());
         board.set_connected(true);
-        let input = board_input(board, &table);
+        let input = board_input(board, &table, Calibration::default());
         let latest = input.tracker().inputs();
         let mut config = MatchConfig::computer_vs_computer(table.clone(), seed);
         config.record_inputs = false;
         let game = Match::new(config)?;
         let snap = game.snapshot();
+        let rest = snap.clone();
         Ok(WebSession {
             flow: Flow::new(&table, 0.0),
             match_table: table.clone(),
@@ -156,10 +190,112 @@ impl WebSession {
             seed: seed.wrapping_add(1),
             key_hints: vec![
                 "1-4 ROD  MOUSE/W/S SLIDE  MOUSE/A/D/WHEEL SPIN  SPACE KICK".into(),
-                "ENTER PUSH  TAB OTHER TEAM  ESC PAUSE".into(),
+                "ENTER PUSH  TAB OTHER TEAM  C CALIBRATE  ESC PAUSE".into(),
             ],
             counters: Counters::default(),
+            calibrator: None,
+            calibration: Calibration::default(),
+            store: None,
+            notice: None,
+            rest,
+            now_s: 0.0,
         })
+    }
+
+    /// Keeps calibrations in `store` from now on, and reads the board through the one
+    /// stored there. One that cannot be used leaves the defaults in use, says so on
+    /// screen and is returned (the page logs it); the stored text is left as it is until
+    /// the next calibration replaces it.
+    pub fn use_calibration_store(
+        &mut self,
+        store: Box<dyn CalibrationStore>,
+    ) -> Result<(), space_foosball::input::calibration::CalibrationError> {
+        let loaded = calibration_store::load(store.as_ref());
+        self.store = Some(store);
+        match loaded {
+            Ok(Some(c)) => {
+                self.set_calibration(c);
+                Ok(())
+            }
+            Ok(None) => Ok(()),
+            Err(e) => {
+                self.set_calibration(Calibration::default());
+                self.notice = Some((
+                    format!("CALIBRATION NOT USED ({e}); USING THE DEFAULTS"),
+                    None,
+                ));
+                Err(e)
+            }
+        }
+    }
+
+    /// The calibration the board is read through.
+    pub fn calibration(&self) -> &Calibration {
+        &self.calibration
+    }
+
+    /// Reads the board through `calibration` from now on (the rods start from centre).
+    fn set_calibration(&mut self, calibration: Calibration) {
+        self.calibration = calibration;
+        *self.input.tracker_mut() = predicting_tracker(&self.table, calibration);
+        self.latest = self.input.tracker().inputs();
+    }
+
+    /// Enters calibration mode (from the attract screen; elsewhere nothing happens): the
+    /// match stops, the guided motion starts with rod 1.
+    pub fn start_calibration(&mut self) {
+        if self.flow.stage() != Stage::Attract {
+            return;
+        }
+        self.calibrator = Some(Calibrator::new(&self.table, self.calibration));
+        self.flow.enter(Stage::Calibration, self.now_s);
+    }
+
+    /// The table rod calibration mode is asking for, if calibrating.
+    pub fn calibration_rod(&self) -> Option<usize> {
+        self.calibrator.as_ref().and_then(Calibrator::rod)
+    }
+
+    /// Uses `fitted` from now on and keeps it in the store; returns what the screen
+    /// says about it.
+    fn use_calibration(&mut self, fitted: Calibration) -> String {
+        self.set_calibration(fitted);
+        let msg = match &mut self.store {
+            Some(store) => calibration_store::save(store.as_mut(), &fitted),
+            None => "CALIBRATION IN USE (NOT SAVED)".into(),
+        };
+        self.notice = Some((msg.clone(), None));
+        msg
+    }
+
+    /// Once every rod is done: the fits are used and kept at once, and the calibration
+    /// screen says where.
+    fn save_when_done(&mut self) {
+        let Some(fitted) = self
+            .calibrator
+            .as_ref()
+            .filter(|c| c.is_done() && !c.saved())
+            .map(Calibrator::calibration)
+        else {
+            return;
+        };
+        let msg = self.use_calibration(fitted);
+        if let Some(c) = &mut self.calibrator {
+            c.set_saved(msg);
+        }
+    }
+
+    /// Leaves calibration mode: good fits not yet kept are used from now on and kept;
+    /// back to the attract screen.
+    fn finish_calibration(&mut self) -> anyhow::Result<()> {
+        if let Some(c) = self.calibrator.take() {
+            let fitted = c.calibration();
+            if fitted != self.calibration {
+                self.use_calibration(fitted);
+            }
+        }
+        self.flow.enter(Stage::Attract, self.now_s);
+        self.start_attract()
     }
 
     /// The keyboard's emulated board, while no device is in use.
@@ -176,10 +312,10 @@ impl WebSession {
     pub fn use_device(&mut self, name: &str) {
         let mut board = BrowserBoard::new(name);
         board.set_connected(true);
-        self.input = board_input(board, &self.table);
+        self.input = board_input(board, &self.table, self.calibration);
         self.board_name = name.to_string();
         self.source = Source::Device;
-        self.key_hints = vec!["ESC PAUSE".into()];
+        self.key_hints = vec!["C CALIBRATE  ESC PAUSE".into()];
     }
 
     /// Whether a device (not the keyboard) drives the rods.
@@ -267,10 +403,15 @@ impl WebSession {
         self.user_paused = paused && self.flow.stage() == Stage::Playing;
     }
 
-    /// Esc: pauses a running match, resumes a paused one.
-    pub fn escape(&mut self) {
+    /// Esc: leaves calibration mode (keeping its good fits), pauses a running match,
+    /// resumes a paused one.
+    pub fn escape(&mut self) -> anyhow::Result<()> {
+        if self.flow.stage() == Stage::Calibration {
+            return self.finish_calibration();
+        }
         let paused = self.user_paused;
         self.set_user_paused(!paused);
+        Ok(())
     }
 
     fn run_match(&mut self, config: MatchConfig) -> anyhow::Result<()> {
@@ -318,7 +459,8 @@ impl WebSession {
 
     /// Runs the physics steps due at `now_s`: each takes the board's reports of its
     /// millisecond (the keyboard's board makes one), then steps the match unless play
-    /// is paused (by the player, or because the board is lost).
+    /// is paused (by the player, or because the board is lost). In calibration mode
+    /// the reports go to the calibrator and no match runs.
     fn step_physics(&mut self, now_s: f64) -> u32 {
         let steps = self.stepper.due(now_s);
         self.ticks += u64::from(steps);
@@ -326,6 +468,10 @@ impl WebSession {
             if let Source::Keyboard(k) = &mut self.source {
                 let report = k.step_report().to_bytes();
                 self.input.board_mut().push_report(&report);
+            }
+            if let Some(cal) = &mut self.calibrator {
+                self.latest = self.input.poll_each(REPORTS_PER_STEP, |r| cal.push(r));
+                continue;
             }
             self.latest = self.input.poll(REPORTS_PER_STEP);
             let lost = self.latest.health == InputHealth::BoardLost;
@@ -348,7 +494,12 @@ impl WebSession {
     /// Advances the physics to `now_s` (seconds on a monotonic clock) and the screens:
     /// what to draw, play and send now.
     pub fn frame(&mut self, now_s: f64) -> anyhow::Result<FrameOut> {
+        self.now_s = now_s;
         let steps = self.step_physics(now_s);
+        self.save_when_done();
+        if let Some((_, until @ None)) = &mut self.notice {
+            *until = Some(now_s + NOTICE_S);
+        }
         let rods = self.latest.clone();
         let over = self.game.phase() == Phase::Over;
         let mut sounds = Vec::new();
@@ -367,7 +518,11 @@ impl WebSession {
         if stage == Stage::Playing && self.user_paused && rods_pushed(&rods) {
             self.user_paused = false;
         }
-        let (prev, newest) = self.snapshots.clone();
+        let (prev, newest) = if stage == Stage::Calibration {
+            (self.rest.clone(), self.rest.clone())
+        } else {
+            self.snapshots.clone()
+        };
         let drained = std::mem::take(&mut self.pending);
         self.take_events(&drained, &newest, now_s, &mut sounds);
         if stage != Stage::Playing && stage_before != Stage::Playing {
@@ -379,6 +534,10 @@ impl WebSession {
             for (i, c) in self.flow.characters().into_iter().enumerate() {
                 snapshot.table.characters[i] = view::kind(c);
             }
+        }
+        if stage == Stage::Calibration {
+            // The rod being calibrated glows on the table.
+            snapshot.held_rods.extend(self.calibration_rod());
         }
         let lost = rods.health == InputHealth::BoardLost;
         let screen = if lost {
@@ -414,7 +573,10 @@ impl WebSession {
     }
 
     fn hud(&self, stage: Stage, lost: bool, now_s: f64) -> Hud {
-        let mut hud = Hud::default();
+        let mut hud = match (&self.calibrator, stage) {
+            (Some(c), Stage::Calibration) => c.hud(),
+            _ => Hud::default(),
+        };
         if lost {
             hud.lines.push(format!("BOARD: {}", self.board_name()));
             return hud;
@@ -432,12 +594,19 @@ impl WebSession {
         if matches!(stage, Stage::Attract | Stage::Playing) {
             hud.lines.extend(self.key_hints.iter().cloned());
         }
-        if stage == Stage::Playing {
-            // The key hints fade once play starts: shown 4 s, gone after 6 s.
+        let notice = self
+            .notice
+            .as_ref()
+            .filter(|(_, until)| until.is_some_and(|u| now_s < u) && stage != Stage::Calibration)
+            .map(|(msg, _)| msg);
+        if stage == Stage::Playing && notice.is_none() {
+            // The key hints fade once play starts: shown 4 s, gone after 6 s (a notice
+            // keeps them all shown).
             let played = now_s - self.flow.since_s();
             hud.lines_opacity =
                 (1.0 - ((played - HINTS_SHOWN_S) / HINTS_FADE_S)).clamp(0.0, 1.0) as f32;
         }
+        hud.lines.extend(notice.cloned());
         hud
     }
 
@@ -577,6 +746,165 @@ mod tests {
             .collect()
     }
 
+    /// A board's sensor on `port` whose counts are off by `gain` (1.04: 4 % more counts
+    /// than the nominal map), reporting a paddle's motion to a session.
+    struct Sensor {
+        port: usize,
+        gain: f64,
+        seq: u16,
+        sent: [f64; 2],
+        pose: [f64; 2],
+    }
+
+    impl Sensor {
+        /// Moves the paddle to `pose` (paddle frame) in 100 ms, then holds it still a
+        /// while; the reports go through the page's path, 200 at a time, each batch
+        /// taken by the frames of the next 0.1 s.
+        fn go(&mut self, s: &mut WebSession, t: &mut f64, pose: [f64; 2]) {
+            use space_foosball::input::calibration::PaddleCalibration;
+            use space_foosball::input::guided::HOLD_MS;
+            let nominal = PaddleCalibration::default();
+            let start = self.pose;
+            let mut out = Vec::new();
+            for i in 1..=100 {
+                let f = f64::from(i) / 100.0;
+                let p = [
+                    start[0] + (pose[0] - start[0]) * f,
+                    start[1] + (pose[1] - start[1]) * f,
+                ];
+                let want = nominal.counts_for(p).unwrap().map(|c| c * self.gain);
+                let d = [
+                    (want[0] - self.sent[0]).round(),
+                    (want[1] - self.sent[1]).round(),
+                ];
+                self.sent = [self.sent[0] + d[0], self.sent[1] + d[1]];
+                out.push([d[0] as i16, d[1] as i16]);
+            }
+            out.extend(std::iter::repeat_n([0, 0], HOLD_MS as usize + 50));
+            self.pose = pose;
+            for chunk in out.chunks(200) {
+                for counts in chunk {
+                    let mut r = InReport::all_present(self.seq);
+                    self.seq = self.seq.wrapping_add(1);
+                    r.paddles[self.port].axial = counts[0];
+                    r.paddles[self.port].rotation = counts[1];
+                    s.device_report(&r.to_bytes());
+                }
+                frames(s, *t, *t + 0.1);
+                *t += 0.1;
+            }
+        }
+    }
+
+    #[test]
+    fn calibration_mode_fits_every_rod_keeps_the_fits_and_the_next_visit_reads_them() {
+        use crate::calibration_store::memory::MemoryStore;
+        use crate::calibration_store::STORAGE_KEY;
+        let table = Table::standard();
+        let store = MemoryStore::default();
+        let mut s = WebSession::new(table.clone(), 7).unwrap();
+        s.use_calibration_store(Box::new(store.clone())).unwrap();
+        s.use_device("WebHID test board");
+        let mut t = 0.0;
+        frames(&mut s, t, t + 0.5);
+        t += 0.5;
+        // Only the attract screen starts calibration; then the match stands still.
+        s.start_calibration();
+        let out = frames(&mut s, t, t + 0.1);
+        t += 0.1;
+        assert_eq!(out.stage, Stage::Calibration);
+        assert_eq!(out.screen, Screen::Calibration);
+        assert!(out.hud.heading.starts_with("ROD 1 OF 8"), "{:?}", out.hud);
+        assert_eq!(out.snapshot.held_rods, vec![0]);
+        let gain = |port: usize| 1.02 + 0.01 * port as f64;
+        for (i, rod) in table.rods.iter().enumerate() {
+            assert_eq!(s.calibration_rod(), Some(i));
+            let mut sensor = Sensor {
+                port: rod.port,
+                gain: gain(rod.port),
+                seq: 0,
+                sent: [0.0; 2],
+                pose: [0.0; 2],
+            };
+            sensor.go(&mut s, &mut t, [0.03, 0.0]);
+            let motion = space_foosball::input::guided::GuidedMotion::standard(
+                rod.travel_m,
+                crate::calibrate::TURNS,
+            );
+            for step in &motion.steps {
+                sensor.go(&mut s, &mut t, step.pose);
+            }
+        }
+        let done = frames(&mut s, t, t + 0.1);
+        t += 0.1;
+        assert_eq!(s.calibration_rod(), None);
+        assert!(
+            done.hud.heading.contains("CALIBRATION SAVED IN TEST STORE"),
+            "{:?}",
+            done.hud
+        );
+        // The fits undo each sensor's gain: 1 / gain of the nominal map, within 1 %.
+        let nominal = space_foosball::input::calibration::PaddleCalibration::default();
+        let check = |c: &Calibration| {
+            for rod in &table.rods {
+                let m = c.paddles[rod.port].matrix;
+                for axis in 0..2 {
+                    let ratio = m[axis][axis] / nominal.matrix[axis][axis] * gain(rod.port);
+                    assert!((ratio - 1.0).abs() < 0.01, "port {}: {m:?}", rod.port);
+                }
+            }
+        };
+        check(s.calibration());
+        let kept = store.text.borrow().clone().expect("kept in the store");
+        check(&Calibration::from_json(&kept, STORAGE_KEY).unwrap());
+        // Esc goes back to the attract match; the next visit reads the board through it.
+        s.escape().unwrap();
+        let back = frames(&mut s, t, t + 0.5);
+        assert_eq!(back.stage, Stage::Attract);
+        assert!(back.match_time_s > 0.3, "{}", back.match_time_s);
+        let mut next = WebSession::new(table.clone(), 8).unwrap();
+        next.use_calibration_store(Box::new(store.clone())).unwrap();
+        assert_eq!(next.calibration(), s.calibration());
+    }
+
+    #[test]
+    fn a_stored_calibration_that_cannot_be_used_leaves_the_defaults_and_says_why() {
+        use crate::calibration_store::memory::MemoryStore;
+        let store = MemoryStore::default();
+        *store.text.borrow_mut() = Some("{\"format\": \"space-foosball-calibration\"".into());
+        let mut s = WebSession::new(Table::standard(), 3).unwrap();
+        let e = s
+            .use_calibration_store(Box::new(store.clone()))
+            .unwrap_err();
+        assert!(e.to_string().contains("test store"), "{e}");
+        assert_eq!(*s.calibration(), Calibration::default());
+        let out = frames(&mut s, 0.0, 0.2);
+        assert!(
+            out.hud
+                .lines
+                .iter()
+                .any(|l| l.starts_with("CALIBRATION NOT USED")),
+            "{:?}",
+            out.hud
+        );
+        // Nothing was written over it.
+        assert!(store
+            .text
+            .borrow()
+            .as_deref()
+            .unwrap()
+            .ends_with("calibration\""));
+        // Calibration does not start from a match.
+        let mut s = WebSession::new(Table::standard(), 3).unwrap();
+        for (at, pressed) in [(1.0, true), (1.2, false), (2.0, true), (2.2, false)] {
+            s.keyboard().unwrap().key(Key::Push, pressed);
+            frames(&mut s, at, at + 0.2);
+        }
+        frames(&mut s, 2.6, 2.7);
+        s.start_calibration();
+        assert_eq!(frames(&mut s, 2.7, 2.8).stage, Stage::Playing);
+    }
+
     #[test]
     fn the_keyboard_starts_a_match_and_the_physics_keeps_to_the_clock() {
         let mut s = WebSession::new(Table::standard(), 3).unwrap();
@@ -607,7 +935,7 @@ mod tests {
         let forward = -Side::Home.attack_dir();
         assert!(turned * forward > 3.0, "turned {turned} rad");
         // Esc pauses: match time stands still.
-        s.escape();
+        s.escape().unwrap();
         let paused = frames(&mut s, 4.0, 4.1);
         assert!(paused.paused);
         let still = frames(&mut s, 4.1, 4.5);

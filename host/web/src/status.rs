@@ -43,6 +43,16 @@ pub fn status(session: &mut WebSession, last: Option<&FrameOut>, page: PageFigur
     let controllers = session
         .controllers()
         .map(|c| format!("{c:?}").to_lowercase());
+    // The ports whose map is not the nominal one (a stored or fitted calibration).
+    let nominal = space_foosball::input::calibration::PaddleCalibration::default();
+    let calibrated_ports: Vec<usize> = session
+        .calibration()
+        .paddles
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| **p != nominal)
+        .map(|(port, _)| port)
+        .collect();
     json!({
         "frames": page.frames,
         "seconds": page.seconds,
@@ -53,6 +63,10 @@ pub fn status(session: &mut WebSession, last: Option<&FrameOut>, page: PageFigur
         "device": session.uses_device(),
         "stage": session.stage().name(),
         "screen": last.map(|o| o.screen.name()),
+        "heading": last.map(|o| o.hud.heading.as_str()),
+        "lines": last.map(|o| &o.hud.lines),
+        "calibration_rod": session.calibration_rod(),
+        "calibrated_ports": calibrated_ports,
         "paused": last.is_some_and(|o| o.paused),
         "health": format!("{:?}", session.rod_inputs().health).to_lowercase(),
         "match_time_s": newest.time_s,

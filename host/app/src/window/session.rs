@@ -363,27 +363,9 @@ impl Session {
         let running = self.physics.as_ref().is_some_and(PhysicsThread::is_running);
         if let Some(cal) = &mut self.calibrator {
             let mut input = lock(&self.input);
-            let mut any = false;
-            for _ in 0..2000 {
-                match self.board.poll_report(Duration::ZERO) {
-                    Ok(Some(r)) => {
-                        any = true;
-                        cal.push(&r);
-                        input.tracker_mut().apply_report(&r);
-                    }
-                    Ok(None) => break,
-                    Err(e) => {
-                        input.tracker_mut().apply_error(&e);
-                        break;
-                    }
-                }
-            }
-            if !any {
-                let state = self.board.link_state();
-                input.tracker_mut().apply_link_state(state);
-            }
-            *lock(&self.latest) = input.tracker().inputs();
+            let inputs = input.poll_each(2000, |r| cal.push(r));
             drop(input);
+            *lock(&self.latest) = inputs;
             self.save_when_done();
         } else if !running {
             let inputs = lock(&self.input).poll(2000);

@@ -443,10 +443,17 @@ impl<B: Board> BoardInput<B> {
     /// lockstep emulated board delivers one per poll, so `max_reports = 1` advances it
     /// exactly one millisecond per step.
     pub fn poll(&mut self, max_reports: usize) -> RodInputs {
+        self.poll_each(max_reports, |_| {})
+    }
+
+    /// [`BoardInput::poll`], handing each report taken to `each` as well, before the
+    /// tracker applies it (calibration mode reads the raw counts this way).
+    pub fn poll_each(&mut self, max_reports: usize, mut each: impl FnMut(&InReport)) -> RodInputs {
         let mut taken = 0;
         while taken < max_reports {
             match self.board.poll_report(Duration::ZERO) {
                 Ok(Some(report)) => {
+                    each(&report);
                     let timing = self.board.last_timing();
                     self.tracker.apply_timed_report(&report, timing.as_ref());
                     taken += 1;

@@ -7,8 +7,13 @@
 //! keys, the desktop's `--demo-input` format, in seconds of simulated time: the match's
 //! 1 ms steps since the page started, so that a key is held for the match time the
 //! script says however slowly a software renderer draws).
+//!
+//! Keys beside the controls': C at the attract screen starts calibration mode (T / G
+//! turn the rod one turn forward / back, Esc leaves and keeps the fits in
+//! `localStorage`, [`local_storage`]).
 
 mod exports;
+mod local_storage;
 
 use crate::controls::map_key;
 use crate::frame_stats::FrameStats;
@@ -74,7 +79,10 @@ fn run() -> anyhow::Result<()> {
         Some(s) => s.parse().map_err(|e| anyhow::anyhow!("script: {e}"))?,
         None => Script::default(),
     };
-    let session = WebSession::new(Table::standard(), seed)?;
+    let mut session = WebSession::new(Table::standard(), seed)?;
+    if let Err(e) = session.use_calibration_store(Box::new(local_storage::LocalStorage)) {
+        web_sys::console::warn_1(&format!("space-foosball: calibration not used: {e}").into());
+    }
     let pads = Gamepads::open();
     if let Some(n) = &pads.notice {
         web_sys::console::warn_1(&format!("space-foosball: {n}").into());
@@ -136,13 +144,24 @@ impl App {
 
     fn key(&mut self, code: KeyCode, pressed: bool) {
         if pressed && code == KeyCode::Escape {
-            self.session.escape();
+            if let Err(e) = self.session.escape() {
+                return self.fail(format!("space-foosball: {e:#}"));
+            }
             self.grab_mouse(false);
             return;
         }
         if pressed && code == KeyCode::Enter && self.session.user_paused() {
             self.session.set_user_paused(false);
             return;
+        }
+        if pressed && code == KeyCode::KeyC {
+            self.session.start_calibration();
+        }
+        if pressed && matches!(code, KeyCode::KeyT | KeyCode::KeyG) {
+            let rod = self.session.calibration_rod();
+            if let (Some(rod), Some(kb)) = (rod, self.session.keyboard()) {
+                kb.turn_paddle(rod, if code == KeyCode::KeyT { 1.0 } else { -1.0 });
+            }
         }
         if let (Some(k), Some(kb)) = (map_key(code), self.session.keyboard()) {
             kb.key(k, pressed);
@@ -202,7 +221,11 @@ impl App {
         }
         self.take_page_input();
         let pad = self.pads.state();
+        let calibrating = self.session.calibration_rod();
         if let Some(kb) = self.session.keyboard() {
+            if let Some(rod) = calibrating {
+                kb.select_rod(rod);
+            }
             kb.gamepad(pad);
         }
         self.resume_audio(false);
