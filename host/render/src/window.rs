@@ -2,13 +2,14 @@
 //!
 //! The renderer knows no windowing library: anything with a raw window and display
 //! handle (a `winit` window in an `Arc`) becomes a surface. The surface is configured
-//! with an sRGB format when the adapter offers one (the scene's colours assume it) and
-//! the chosen present mode. [`WindowRenderer::draw`] can also hand back the very frame
+//! with an sRGB format when the adapter offers one (the scene's colours assume it; where
+//! the surface itself is not sRGB, as a WebGPU canvas, it is drawn through an sRGB view
+//! of it) and the chosen present mode. [`WindowRenderer::draw`] can also hand back the very frame
 //! it presented (`capture`), read from the swapchain image before presenting, for the
 //! test that checks what the running window shows.
 
 use crate::gpu::{
-    copy_to_buffer, new_instance, open_device, padded_row_bytes, read_buffer, AdapterSummary,
+    copy_to_buffer, open_device_async, padded_row_bytes, popped_error, read_buffer, AdapterSummary,
     DEPTH_FORMAT,
 };
 use crate::image::RgbaImage;
@@ -51,6 +52,8 @@ pub struct WindowRenderer {
     surface: wgpu::Surface<'static>,
     config: wgpu::SurfaceConfiguration,
     depth: wgpu::Texture,
+    /// The format the frame is drawn through (sRGB: the surface's, or a view of it).
+    view_format: wgpu::TextureFormat,
     can_copy: bool,
     last_times: DrawTimes,
 }
@@ -58,21 +61,55 @@ pub struct WindowRenderer {
 impl WindowRenderer {
     /// Opens an adapter that can present to `window` (a hardware GPU, else a software
     /// one such as lavapipe) and configures its surface at `width × height` pixels.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn new(
         window: impl Into<wgpu::SurfaceTarget<'static>>,
         width: u32,
         height: u32,
         present: PresentChoice,
     ) -> Result<WindowRenderer, RenderError> {
-        let instance = new_instance();
+        let instance = crate::gpu::new_instance();
+        pollster::block_on(Self::on_instance(instance, window, width, height, present))
+    }
+
+    /// [`WindowRenderer::new`] in a browser, on the page's canvas: WebGPU where the
+    /// browser gives an adapter for it, else WebGL2 (whichever the embedding crate's
+    /// wgpu features enable). Awaited: WebGPU's promises complete only once the page's
+    /// event loop runs.
+    #[cfg(target_arch = "wasm32")]
+    pub async fn new_in_browser(
+        window: impl Into<wgpu::SurfaceTarget<'static>>,
+        width: u32,
+        height: u32,
+        present: PresentChoice,
+    ) -> Result<WindowRenderer, RenderError> {
+        let instance = crate::gpu::new_browser_instance().await;
+        Self::on_instance(instance, window, width, height, present).await
+    }
+
+    async fn on_instance(
+        instance: wgpu::Instance,
+        window: impl Into<wgpu::SurfaceTarget<'static>>,
+        width: u32,
+        height: u32,
+        present: PresentChoice,
+    ) -> Result<WindowRenderer, RenderError> {
         let surface = instance
             .create_surface(window)
             .map_err(|e| RenderError::Surface(e.to_string()))?;
-        let (adapter, device, queue) = open_device(&instance, Some(&surface))?;
+        let (adapter, device, queue) = open_device_async(&instance, Some(&surface)).await?;
         let caps = surface.get_capabilities(&adapter);
         let format = choose_format(&caps.formats).ok_or_else(|| {
             RenderError::Surface("the adapter cannot present to this window".into())
         })?;
+        // A surface with no sRGB format (a WebGPU canvas offers only linear ones) is
+        // drawn through an sRGB view of its texture.
+        let view_format = format.add_srgb_suffix();
+        let view_formats = if view_format == format {
+            vec![]
+        } else {
+            vec![view_format]
+        };
         let present_mode = match present {
             PresentChoice::LowLatency
                 if caps.present_modes.contains(&wgpu::PresentMode::Mailbox) =>
@@ -98,9 +135,9 @@ impl WindowRenderer {
                 .first()
                 .copied()
                 .unwrap_or(wgpu::CompositeAlphaMode::Auto),
-            view_formats: vec![],
+            view_formats,
         };
-        let renderer = Renderer::with_device(&adapter, device, queue, format)?;
+        let renderer = Renderer::with_device(&adapter, device, queue, view_format)?;
         surface.configure(&renderer.device, &config);
         let depth = depth_texture(&renderer.device, config.width, config.height);
         Ok(WindowRenderer {
@@ -108,6 +145,7 @@ impl WindowRenderer {
             surface,
             config,
             depth,
+            view_format,
             can_copy,
             last_times: DrawTimes::default(),
         })
@@ -176,7 +214,10 @@ impl WindowRenderer {
         // A handle (wgpu devices are reference counted): encoding borrows the renderer.
         let device = &self.renderer.device.clone();
         device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let view = frame.texture.create_view(&Default::default());
+        let view = frame.texture.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(self.view_format),
+            ..Default::default()
+        });
         let depth_view = self.depth.create_view(&Default::default());
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("window frame"),
@@ -195,7 +236,7 @@ impl WindowRenderer {
             buffer
         });
         self.renderer.queue.submit([enc.finish()]);
-        if let Some(e) = pollster::block_on(device.pop_error_scope()) {
+        if let Some(e) = popped_error(device) {
             return Err(RenderError::Gpu(e.to_string()));
         }
         let encode_ms = ms(t2);

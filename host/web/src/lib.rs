@@ -1,5 +1,5 @@
 //! Space Foosball in a browser: the game compiled to WebAssembly, drawn by the same
-//! renderer through wgpu on WebGL2, played from the keyboard, mouse and a gamepad or from
+//! renderer through wgpu on WebGPU (where the browser gives an adapter) or WebGL2, played from the keyboard, mouse and a gamepad or from
 //! the real sensor board over WebHID, with sound through Web Audio.
 //!
 //! Target-independent (tested natively):

@@ -16,6 +16,8 @@ pub struct PageFigures<'a> {
     pub seconds: f64,
     /// The graphics adapter's name.
     pub adapter: &'a str,
+    /// The graphics backend (`BrowserWebGpu`, `Gl`).
+    pub backend: &'a str,
     /// The recent frame times.
     pub frame_stats: &'a FrameStats,
     /// Where the sounds go.
@@ -57,6 +59,7 @@ pub fn status(session: &mut WebSession, last: Option<&FrameOut>, page: PageFigur
         "frames": page.frames,
         "seconds": page.seconds,
         "adapter": page.adapter,
+        "backend": page.backend,
         "frame_interval_ms": pair(page.frame_stats.interval_ms()),
         "frame_work_ms": pair(page.frame_stats.work_ms()),
         "board": session.board_name(),

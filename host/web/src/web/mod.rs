@@ -1,5 +1,6 @@
 //! The page: a winit window on the page's `<canvas id="game">`, drawn by
-//! [`foosball_render::WindowRenderer`] (WebGL2), one [`WebSession::frame`] per animation
+//! [`foosball_render::WindowRenderer`] (WebGPU where the browser gives an adapter for
+//! it, else WebGL2; opened asynchronously, the game running behind until it is), one [`WebSession::frame`] per animation
 //! frame, keys and mouse to the emulated board, and the functions the page's JavaScript
 //! calls ([`exports`]).
 //!
@@ -24,6 +25,8 @@ use exports::{with_shared, Shared};
 use foosball_audio::AudioOutput;
 use foosball_render::{PresentChoice, WindowRenderer};
 use space_foosball::table::Table;
+use std::cell::RefCell;
+use std::rc::Rc;
 use std::sync::Arc;
 use wasm_bindgen::prelude::*;
 use winit::application::ApplicationHandler;
@@ -100,6 +103,7 @@ fn run() -> anyhow::Result<()> {
         audio_resumed_s: f64::NEG_INFINITY,
         window: None,
         renderer: None,
+        opening: Rc::new(RefCell::new(None)),
         started: now_s(),
         frames: 0,
         failed: false,
@@ -117,6 +121,8 @@ struct App {
     audio_resumed_s: f64,
     window: Option<Arc<Window>>,
     renderer: Option<WindowRenderer>,
+    /// The renderer being opened (its adapter and device are awaited), once ready.
+    opening: Rc<RefCell<Option<Result<WindowRenderer, String>>>>,
     /// The page clock when the game started, s.
     started: f64,
     frames: u64,
@@ -250,7 +256,30 @@ impl App {
         while let Some(r) = self.session.take_out_report() {
             with_shared(|s| s.push_out(r.to_vec()));
         }
+        if self.renderer.is_none() {
+            let opened = self.opening.borrow_mut().take();
+            match opened {
+                Some(Ok(r)) => {
+                    web_sys::console::log_1(
+                        &format!(
+                            "space-foosball: drawing on {} ({}), board: {}",
+                            r.adapter().name,
+                            r.adapter().backend,
+                            self.session.board_name()
+                        )
+                        .into(),
+                    );
+                    self.renderer = Some(r);
+                }
+                Some(Err(e)) => return self.fail(e),
+                None => {}
+            }
+        }
         let Some(renderer) = self.renderer.as_mut() else {
+            // Still opening: the game runs on; the next frame looks again.
+            if let Some(w) = &self.window {
+                w.request_redraw();
+            }
             return;
         };
         if let Err(e) = renderer.draw(&out.snapshot, out.screen, &out.hud, false) {
@@ -258,11 +287,13 @@ impl App {
         }
         self.frames += 1;
         let adapter = renderer.adapter().name.clone();
+        let backend = renderer.adapter().backend.clone();
         self.frame_stats.frame(now * 1e3, now_s() * 1e3);
         let page = crate::status::PageFigures {
             frames: self.frames,
             seconds: now - self.started,
             adapter: &adapter,
+            backend: &backend,
             frame_stats: &self.frame_stats,
             audio: &self.audio,
         };
@@ -294,21 +325,12 @@ impl ApplicationHandler for App {
             Ok(w) => Arc::new(w),
             Err(e) => return self.fail(format!("space-foosball: no window: {e}")),
         };
-        match WindowRenderer::new(Arc::clone(&window), w, h, PresentChoice::Vsync) {
-            Ok(r) => {
-                web_sys::console::log_1(
-                    &format!(
-                        "space-foosball: drawing on {} ({}), board: {}",
-                        r.adapter().name,
-                        r.adapter().backend,
-                        self.session.board_name()
-                    )
-                    .into(),
-                );
-                self.renderer = Some(r);
-            }
-            Err(e) => return self.fail(format!("space-foosball: {e}")),
-        }
+        let opening = Rc::clone(&self.opening);
+        let target = Arc::clone(&window);
+        wasm_bindgen_futures::spawn_local(async move {
+            let r = WindowRenderer::new_in_browser(target, w, h, PresentChoice::Vsync).await;
+            *opening.borrow_mut() = Some(r.map_err(|e| format!("space-foosball: {e}")));
+        });
         window.request_redraw();
         self.window = Some(window);
     }

@@ -22,8 +22,9 @@ pub struct Browser {
 
 impl Browser {
     /// Starts `chromium` (or `$CHROMIUM`) headless with WebGL2 on SwiftShader and opens
-    /// `url` in a page of `width × height` CSS pixels.
-    pub fn open(url: &str, width: u32, height: u32) -> Browser {
+    /// `url` in a page of `width × height` CSS pixels; `flags` are added to Chromium's
+    /// command line.
+    pub fn open(url: &str, width: u32, height: u32, flags: &[&str]) -> Browser {
         let exe = std::env::var("CHROMIUM").unwrap_or_else(|_| "chromium".into());
         let profile = tempfile::tempdir().expect("a profile directory");
         let mut child = Command::new(&exe)
@@ -45,6 +46,7 @@ impl Browser {
                 "--remote-debugging-port=0",
                 "--remote-allow-origins=*",
             ])
+            .args(flags)
             .arg(format!("--user-data-dir={}", profile.path().display()))
             .arg(format!("--window-size={width},{height}"))
             .arg("about:blank")

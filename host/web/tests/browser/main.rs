@@ -56,8 +56,26 @@ fn dist() -> PathBuf {
 }
 
 fn open(query: &str) -> Browser {
+    open_with(query, &[])
+}
+
+/// Chromium's WebGPU on SwiftShader's Vulkan (headless Chromium on Linux gives no WebGPU
+/// adapter without them: `navigator.gpu` is there, `requestAdapter()` answers null).
+const WEBGPU_FLAGS: [&str; 4] = [
+    "--enable-unsafe-webgpu",
+    "--use-webgpu-adapter=swiftshader",
+    "--enable-features=Vulkan",
+    "--use-vulkan=swiftshader",
+];
+
+fn open_with(query: &str, flags: &[&str]) -> Browser {
     let base = server::serve(&dist());
-    let mut b = Browser::open(&format!("{base}/index.html?{query}"), W + 40, H + 160);
+    let mut b = Browser::open(
+        &format!("{base}/index.html?{query}"),
+        W + 40,
+        H + 160,
+        flags,
+    );
     // The wasm module is loaded and drawing.
     let s = b.wait_for(
         "window.spaceFoosball ? spaceFoosball.status() : null",
@@ -91,6 +109,10 @@ fn numbers(v: &Value) -> Vec<f64> {
 #[ignore = "needs the wasm bundle and Chromium: run by the web step of scripts/test-all"]
 fn a_match_from_scripted_keys_runs_and_the_canvas_shows_it() {
     let mut b = open("seed=3&script=start&pad=fake");
+    // Without WebGPU's flags this browser has `navigator.gpu` but no adapter for it: the
+    // page must fall back to WebGL2.
+    let s = b.eval("spaceFoosball.status()");
+    assert_eq!(s["backend"], "Gl", "{s}");
     // The script pushes at 1 s and 2 s: a match as Home against the computer.
     let s = b.wait_for("spaceFoosball.status()", 120.0, "match time 1.5 s", |v| {
         v.get("error").is_some()
@@ -128,21 +150,73 @@ fn a_match_from_scripted_keys_runs_and_the_canvas_shows_it() {
     });
     b.eval("fakePad.axes[1] = 0; true");
 
-    // The picture of play: after a goal, the ceremony shows the ball in the goal, so a
-    // capture that lands on it waits for the re-serve (the match runs at a fraction of real
-    // time on a loaded machine).
+    let (_, s) = picture_of_play(&mut b);
+    assert!(s["match_time_s"].as_f64().unwrap() >= t0, "{s}");
+    eprintln!(
+        "web match: {} frames in {:.1} s, {} physics steps, {} dropped; \
+         frame interval {} ms, frame work {} ms (figures, not pass marks)",
+        s["frames"],
+        s["seconds"].as_f64().unwrap_or(0.0),
+        s["steps"],
+        s["dropped_steps"],
+        s["frame_interval_ms"],
+        s["frame_work_ms"]
+    );
+}
+
+#[test]
+#[ignore = "needs the wasm bundle and Chromium: run by the web step of scripts/test-all"]
+fn where_the_browser_gives_webgpu_the_page_draws_the_match_on_it() {
+    let mut b = open_with("seed=3&script=start", &WEBGPU_FLAGS);
+    // Whether this Chromium build gives WebGPU an adapter at all (Debian's does with the
+    // flags); the page's choice is checked only where it has one to choose.
+    let has_webgpu =
+        b.eval("navigator.gpu ? navigator.gpu.requestAdapter().then(a => !!a) : false");
+    if has_webgpu != true {
+        eprintln!("this Chromium gives WebGPU no adapter even with {WEBGPU_FLAGS:?}: not checked");
+        return;
+    }
+    let s = b.eval("spaceFoosball.status()");
+    assert_eq!(s["backend"], "BrowserWebGpu", "{s}");
+    b.wait_for("spaceFoosball.status()", 120.0, "a match", |v| {
+        v.get("error").is_some() || v["stage"] == "playing"
+    });
+    let (_, s) = picture_of_play(&mut b);
+    assert!(s.get("error").is_none(), "{s}");
+    eprintln!(
+        "web match on WebGPU ({}): {} frames in {:.1} s; frame interval {} ms, frame work {} \
+         ms (figures, not pass marks)",
+        s["adapter"],
+        s["frames"],
+        s["seconds"].as_f64().unwrap_or(0.0),
+        s["frame_interval_ms"],
+        s["frame_work_ms"]
+    );
+}
+
+/// A picture of play and the status of its frame, checked as the desktop's window test
+/// checks its frame: many colours (not blank), the ball's gold where the physics puts it,
+/// the cloth, both teams' colours, the score display. Written to
+/// `$CARGO_TARGET_TMPDIR/web-match-<backend>.png`.
+fn picture_of_play(b: &mut Browser) -> (Picture, Value) {
+    // After a goal, the ceremony shows the ball in the goal, so a capture that lands on
+    // it waits for the re-serve (the match runs at a fraction of real time on a loaded
+    // machine).
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(120);
     let (pic, s) = loop {
-        let (pic, s) = capture(&mut b);
+        let (pic, s) = capture(b);
         if s["screen"] == "match" || std::time::Instant::now() > deadline {
             break (pic, s);
         }
         std::thread::sleep(std::time::Duration::from_millis(250));
     };
     assert_eq!(s["screen"], "match", "no picture of play within 120 s: {s}");
-    pic.save(&PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("web-match.png"));
+    let name = format!(
+        "web-match-{}.png",
+        s["backend"].as_str().unwrap_or("unknown")
+    );
+    pic.save(&PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name));
     assert_eq!((pic.w, pic.h), (W, H));
-    assert!(s["match_time_s"].as_f64().unwrap() >= t0, "{s}");
     // Not blank: many distinct colours.
     assert!(
         pic.distinct_colours() > 500,
@@ -182,16 +256,7 @@ fn a_match_from_scripted_keys_runs_and_the_canvas_shows_it() {
         r > 200 && g > 200 && b > 200
     });
     assert!(white > 40, "score display: {white} white pixels");
-    eprintln!(
-        "web match: {} frames in {:.1} s, {} physics steps, {} dropped; \
-         frame interval {} ms, frame work {} ms (figures, not pass marks)",
-        s["frames"],
-        s["seconds"].as_f64().unwrap_or(0.0),
-        s["steps"],
-        s["dropped_steps"],
-        s["frame_interval_ms"],
-        s["frame_work_ms"]
-    );
+    (pic, s)
 }
 
 /// IN reports of `ms` milliseconds from sequence `first`: each moves the paddle on
