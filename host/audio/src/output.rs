@@ -8,6 +8,9 @@ use cpal::{FromSample, SampleFormat, SizedSample, StreamConfig};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, SyncSender};
 use std::sync::Arc;
+use std::time::Duration;
+// web-time: std's Instant natively, `performance.now()` in a browser (std's panics there).
+use web_time::Instant;
 
 /// Set this environment variable to `0` or `off` to open a silent output even where an
 /// audio device exists (quiet test runs, benchmarks).
@@ -30,7 +33,7 @@ enum Sink {
     Device {
         /// Kept alive: dropping the stream stops the sound.
         stream: cpal::Stream,
-        to_audio_thread: SyncSender<Arc<[f32]>>,
+        to_audio_thread: SyncSender<Queued>,
         description: String,
     },
     Silent {
@@ -121,7 +124,10 @@ impl AudioOutput {
             // A full queue means the device is not taking sound (a browser's audio before
             // a gesture, a stalled device): the sound is dropped rather than queued
             // without bound. A closed one means the stream died. Sound is best effort.
-            let _ = to_audio_thread.try_send(samples);
+            let _ = to_audio_thread.try_send(Queued {
+                samples,
+                at: Instant::now(),
+            });
         }
         self.played.fetch_add(1, Ordering::Relaxed);
     }
@@ -165,11 +171,30 @@ impl AudioOutput {
     }
 }
 
-type Opened = (cpal::Stream, SyncSender<Arc<[f32]>>, String);
+type Opened = (cpal::Stream, SyncSender<Queued>, String);
 
 /// Sounds waiting for the audio thread at most; more are dropped (a burst of kicks and
 /// bounces in one frame is well under this).
 const QUEUE_SOUNDS: usize = 64;
+
+/// A sound that waited longer than this for the device is dropped, not played: it no
+/// longer belongs to the kick or bounce that made it (a browser's audio starting only
+/// after a gesture would otherwise open with a burst of old sounds). Several device
+/// buffers long, so a device that takes its sound in large blocks loses nothing.
+pub const STALE_AFTER: Duration = Duration::from_millis(250);
+
+/// A sound on its way to the audio thread, and when it was played.
+struct Queued {
+    samples: Arc<[f32]>,
+    at: Instant,
+}
+
+impl Queued {
+    /// Whether it waited too long to be played at `now` ([`STALE_AFTER`]).
+    fn is_stale(&self, now: Instant) -> bool {
+        now.saturating_duration_since(self.at) > STALE_AFTER
+    }
+}
 
 /// [`open_device`] with ALSA's own error messages (which it otherwise prints to stderr,
 /// e.g. "cannot find card '0'" on a machine without sound) captured and passed to
@@ -253,7 +278,7 @@ fn open_device() -> Result<Opened, String> {
 fn build<T>(
     device: &cpal::Device,
     config: StreamConfig,
-    rx: Receiver<Arc<[f32]>>,
+    rx: Receiver<Queued>,
 ) -> Result<cpal::Stream, cpal::Error>
 where
     T: SizedSample + FromSample<f32>,
@@ -264,8 +289,11 @@ where
     device.build_output_stream::<T, _, _>(
         config,
         move |data: &mut [T], _| {
-            while let Ok(s) = rx.try_recv() {
-                mixer.add(s);
+            let now = Instant::now();
+            while let Ok(q) = rx.try_recv() {
+                if !q.is_stale(now) {
+                    mixer.add(q.samples);
+                }
             }
             scratch.resize(data.len(), 0.0);
             mixer.fill(&mut scratch);
@@ -287,6 +315,25 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_sound_that_waited_past_the_limit_is_stale() {
+        let at = Instant::now();
+        let q = Queued {
+            samples: Arc::from(vec![0.0f32; 4]),
+            at,
+        };
+        assert!(!q.is_stale(at));
+        assert!(!q.is_stale(at + STALE_AFTER));
+        assert!(q.is_stale(at + STALE_AFTER + Duration::from_millis(1)));
+        // A clock that reads earlier than the queueing (never on a monotonic clock)
+        // counts as no wait.
+        assert!(!Queued {
+            samples: q.samples.clone(),
+            at: at + STALE_AFTER * 4
+        }
+        .is_stale(at));
+    }
 
     #[test]
     fn a_silent_output_accepts_every_sound() {
