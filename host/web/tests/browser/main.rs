@@ -488,6 +488,21 @@ fn guided_reports(port: usize, gain: f64, poses: &[[f64; 2]], first: u16) -> Vec
     out
 }
 
+/// Runs `before` (JavaScript) in the page, reloads it, and returns the status once the
+/// reloaded page has drawn.
+fn reload(b: &mut Browser, before: &str) -> Value {
+    b.eval(&format!(
+        "{before} setTimeout(() => location.reload(), 50); true"
+    ));
+    std::thread::sleep(std::time::Duration::from_millis(1000));
+    b.wait_for(
+        "window.spaceFoosball ? spaceFoosball.status() : null",
+        60.0,
+        "the page loaded again",
+        |v| v["frames"].as_u64().is_some_and(|f| f >= 2),
+    )
+}
+
 #[test]
 #[ignore = "needs the wasm bundle and Chromium: run by the web step of scripts/test-all"]
 fn calibration_mode_in_the_browser_fits_a_rod_keeps_it_in_local_storage_and_reloads_it() {
@@ -547,25 +562,11 @@ fn calibration_mode_in_the_browser_fits_a_rod_keeps_it_in_local_storage_and_relo
     }
     // The next visit reads the board through it; a text that is not a calibration is
     // not used, and the screen says why.
-    b.eval("setTimeout(() => location.reload(), 50); true");
-    std::thread::sleep(std::time::Duration::from_millis(1000));
-    let s = b.wait_for(
-        "window.spaceFoosball ? spaceFoosball.status() : null",
-        60.0,
-        "the page loaded again",
-        |v| v["frames"].as_u64().is_some_and(|f| f >= 2),
-    );
+    let s = reload(&mut b, "");
     assert_eq!(numbers(&s["calibrated_ports"]), [port as f64], "{s}");
-    b.eval(
-        "localStorage.setItem('space-foosball-calibration', '{\"paddles\": NaN}'); \
-         setTimeout(() => location.reload(), 50); true",
-    );
-    std::thread::sleep(std::time::Duration::from_millis(1000));
-    let s = b.wait_for(
-        "window.spaceFoosball ? spaceFoosball.status() : null",
-        60.0,
-        "the page loaded with a bad calibration",
-        |v| v["frames"].as_u64().is_some_and(|f| f >= 2),
+    let s = reload(
+        &mut b,
+        "localStorage.setItem('space-foosball-calibration', '{\"paddles\": NaN}');",
     );
     assert_eq!(s["calibrated_ports"], serde_json::json!([]), "{s}");
     let said = s["lines"].as_array().unwrap().iter().any(|l| {
