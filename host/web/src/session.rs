@@ -271,12 +271,7 @@ impl WebSession {
     /// Once every rod is done: the fits are used and kept at once, and the calibration
     /// screen says where.
     fn save_when_done(&mut self) {
-        let Some(fitted) = self
-            .calibrator
-            .as_ref()
-            .filter(|c| c.is_done() && !c.saved())
-            .map(Calibrator::calibration)
-        else {
+        let Some(fitted) = self.calibrator.as_ref().and_then(Calibrator::fits_to_save) else {
             return;
         };
         let msg = self.use_calibration(fitted);
@@ -288,11 +283,9 @@ impl WebSession {
     /// Leaves calibration mode: good fits not yet kept are used from now on and kept;
     /// back to the attract screen.
     fn finish_calibration(&mut self) -> anyhow::Result<()> {
-        if let Some(c) = self.calibrator.take() {
-            let fitted = c.calibration();
-            if fitted != self.calibration {
-                self.use_calibration(fitted);
-            }
+        let leaving = self.calibrator.take();
+        if let Some(fitted) = leaving.and_then(|c| c.fits_on_leaving(&self.calibration)) {
+            self.use_calibration(fitted);
         }
         self.flow.enter(Stage::Attract, self.now_s);
         self.start_attract()

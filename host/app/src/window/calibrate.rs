@@ -158,14 +158,21 @@ impl Calibrator {
         &self.results
     }
 
-    /// The calibration with every good fit so far applied.
-    pub fn calibration(&self) -> Calibration {
-        self.calibration
-    }
-
     /// Whether the file has been saved (or saving was tried) since every rod was done.
     pub fn saved(&self) -> bool {
         self.saved.is_some()
+    }
+
+    /// The fits to use and save now: once every rod is done, until
+    /// [`Calibrator::set_saved`] says where they went.
+    pub fn fits_to_save(&self) -> Option<Calibration> {
+        (self.is_done() && !self.saved()).then_some(self.calibration)
+    }
+
+    /// Leaving calibration mode: the fits, where they differ from `in_use` (good fits
+    /// not yet used and saved).
+    pub fn fits_on_leaving(self, in_use: &Calibration) -> Option<Calibration> {
+        (self.calibration != *in_use).then_some(self.calibration)
     }
 
     /// What the screen says about saving: `"SAVED TO /path"` or why not.

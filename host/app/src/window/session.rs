@@ -301,12 +301,7 @@ impl Session {
     /// Once every rod is done: the fits are used and saved at once, and the calibration
     /// screen says where.
     fn save_when_done(&mut self) {
-        let Some(fitted) = self
-            .calibrator
-            .as_ref()
-            .filter(|c| c.is_done() && !c.saved())
-            .map(Calibrator::calibration)
-        else {
+        let Some(fitted) = self.calibrator.as_ref().and_then(Calibrator::fits_to_save) else {
             return;
         };
         let msg = self.use_calibration(fitted);
@@ -318,11 +313,9 @@ impl Session {
     /// Leaves calibration mode: good fits not yet saved are used from now on and saved;
     /// back to the attract screen.
     fn finish_calibration(&mut self) -> anyhow::Result<()> {
-        if let Some(c) = self.calibrator.take() {
-            let fitted = c.calibration();
-            if fitted != self.calibration {
-                self.use_calibration(fitted);
-            }
+        let leaving = self.calibrator.take();
+        if let Some(fitted) = leaving.and_then(|c| c.fits_on_leaving(&self.calibration)) {
+            self.use_calibration(fitted);
         }
         let now = self.now_s();
         self.flow.enter(Stage::Attract, now);
