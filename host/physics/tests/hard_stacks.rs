@@ -8,7 +8,8 @@
 //!   yet: the test is ignored until the solver holds it (`--ignored` runs it).
 //! * A unit box 500 times heavier than the boxes of a 10-layer pyramid, dropped 0.5 m onto
 //!   its top: no box sinks more than 5 cm into the ground, and after 3 s every body moves at
-//!   less than 1 m/s (every point of it).
+//!   less than 1 m/s (every point of it). The reduced run goes through the impact (0.75 s)
+//!   and checks the sinking only.
 //!
 //! The default run is reduced; the full lengths run with `VPHYS_FULL_HARD_CASES=1` (use
 //! `--release`), as the hard-case battery does:
@@ -101,16 +102,21 @@ fn a_heavy_box_dropped_on_a_pyramid_is_carried() {
     s.bodies.push(heavy);
     let mut w = s.build().unwrap();
     let mut deepest: f64 = 0.0;
-    for _ in 0..180 {
+    // 3 s at 1/60 s; the reduced run ends 0.4 s after the impact (the fall takes 0.32 s).
+    let steps = length(45, 180);
+    for _ in 0..steps {
         w.step().unwrap();
         deepest = deepest.max(ground_penetration(&w));
     }
     assert_finite(&w, "heavy box on a pyramid");
-    let fastest = fastest_point(&w);
     // The heavy box is carried: it rests above the pyramid's top layer.
     let heavy_z = body_at(&w, w.body_count() - 1).position().z;
     assert!(heavy_z > top, "the heavy box sank to z = {heavy_z} m");
     assert!(deepest <= 0.05, "a box sank {deepest} m into the ground");
+    if steps < 180 {
+        return;
+    }
+    let fastest = fastest_point(&w);
     assert!(
         fastest < 1.0,
         "a point still moves at {fastest} m/s after 3 s"

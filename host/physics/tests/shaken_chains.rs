@@ -10,7 +10,7 @@
 //!
 //! Lengths: the 20-link chain runs its 10 s in every test run; the 100- and 500-link chains
 //! run 10 s with `VPHYS_FULL_HARD_CASES=1` (the test command's release step) and 0.5 s
-//! otherwise. The 500-link chain does not hold yet and is ignored (`--ignored` runs it).
+//! otherwise.
 
 use std::f64::consts::PI;
 use virtual_physics::algebra::{Inertia, Sym3, Vec3, SE3};
@@ -159,8 +159,6 @@ fn a_kinematic_root_on_a_sinusoid_drives_a_hanging_chain_of_100_links() {
 }
 
 #[test]
-#[ignore = "the 500-link chain takes in energy beyond the bound at the defaults (measured: \
-            8356 J against 2070 J at 4.15 s, release); run with --ignored to measure it"]
 fn a_kinematic_root_on_a_sinusoid_drives_a_hanging_chain_of_500_links() {
     let (taken, _) = shaken_chain(500, length(500, 10_000), false);
     assert!(taken > 0.0, "the driver put energy in");

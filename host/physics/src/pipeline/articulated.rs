@@ -15,6 +15,8 @@
 
 #[path = "implicit_step.rs"]
 mod implicit_step;
+#[path = "tree_energy.rs"]
+mod tree_energy;
 
 use super::integrator::dexp_inv_right;
 use super::inverse_mass::InverseMassCache;
@@ -24,6 +26,7 @@ use crate::dynamics::{aba, DynamicsError, Workspace};
 use crate::geometry::{Material, Shape, M3, V3};
 use crate::model::ArticulatedTree;
 use implicit_step::{implicit_velocity_update, ImplicitWorkspace};
+use tree_energy::EnergyScratch;
 
 /// Fixed-point iterations of the tree's implicit midpoint step: stop when `|Δq̇|∞` is below
 /// this (rad/s or m/s) …
@@ -66,6 +69,8 @@ pub struct ArticulatedSystem {
     inverse_mass: InverseMassCache,
     /// Factors of the linearly implicit velocity update.
     iws: ImplicitWorkspace,
+    /// Scratch of the linearly implicit step's energy balance.
+    energy_scratch: EnergyScratch,
     /// Configuration.
     pub(crate) q: Vec<f64>,
     /// Velocity.
@@ -106,6 +111,7 @@ impl ArticulatedSystem {
     pub fn new(tree: ArticulatedTree<f64>, q: Vec<f64>, qd: Vec<f64>) -> Self {
         let ws = Workspace::new(&tree);
         let iws = ImplicitWorkspace::new(&tree);
+        let energy_scratch = EnergyScratch::new(&tree);
         let nv = tree.nv();
         let nq = tree.nq();
         let joints: Vec<(Chart, usize, usize)> = tree
@@ -135,6 +141,7 @@ impl ArticulatedSystem {
             ws,
             inverse_mass: InverseMassCache::default(),
             iws,
+            energy_scratch,
             q,
             qd,
             tau: vec![0.0; nv],
@@ -204,26 +211,39 @@ impl ArticulatedSystem {
     /// the prescribed coordinates landing on their trajectories at `t_end` (for trees that
     /// [step prescribed alone](Self::steps_prescribed_alone)).
     pub(crate) fn step_until(&mut self, h: f64, t_end: f64) -> Result<(), DynamicsError> {
+        // A tree under prescribed motion holds the energy balance of its linearly implicit
+        // step (`pipeline/tree_energy.rs`); a tree with no drive is left to the step alone.
+        let balanced = !self.drives.is_empty()
+            && matches!(
+                self.integrator,
+                IntegratorKind::SymplecticEuler | IntegratorKind::ImplicitGyroscopic
+            );
+        let e0 = balanced.then(|| self.energy_now());
+        self.given_impulses.clear();
         if self.drives.is_empty() {
-            return self.step(h);
-        }
-        let mut given = std::mem::take(&mut self.given);
-        given.clear();
-        for d in &self.drives {
-            if let (super::drives::DriveKind::Prescribed(traj), Some(q)) =
-                (&d.kind, self.q_of_dof(d.dof))
-            {
-                given.push((d.dof, (traj.at(t_end) - q) / h - self.qd[d.dof]));
+            self.step(h)?;
+        } else {
+            let mut given = std::mem::take(&mut self.given);
+            given.clear();
+            for d in &self.drives {
+                if let (super::drives::DriveKind::Prescribed(traj), Some(q)) =
+                    (&d.kind, self.q_of_dof(d.dof))
+                {
+                    given.push((d.dof, (traj.at(t_end) - q) / h - self.qd[d.dof]));
+                }
             }
+            self.given = given;
+            let r = self.implicit_velocity(h);
+            self.given.clear();
+            r?;
+            let impulses = std::mem::take(&mut self.given_impulses);
+            self.add_prescribed_impulses(&impulses);
+            self.given_impulses = impulses;
+            self.advance_positions(h);
         }
-        self.given = given;
-        let r = self.implicit_velocity(h);
-        self.given.clear();
-        r?;
-        let impulses = std::mem::take(&mut self.given_impulses);
-        self.add_prescribed_impulses(&impulses);
-        self.given_impulses = impulses;
-        self.advance_positions(h);
+        if let Some(e0) = e0 {
+            self.hold_energy_balance(e0, h);
+        }
         Ok(())
     }
 
@@ -451,30 +471,6 @@ impl ArticulatedSystem {
                 Chart::Fixed => {}
             }
         }
-    }
-
-    /// Kinetic plus potential energy (J), gravity from the model.
-    pub fn energy(&self) -> f64 {
-        let poses = self.tree.body_poses(&self.q);
-        let mut e = 0.0;
-        let g = self.tree.gravity();
-        // Potential: −m g·c for each body's centre of mass.
-        for (b, t) in self.tree.bodies().iter().zip(&poses) {
-            let c = t.transform_point(&b.inertia.com());
-            e -= b.inertia.m * g.dot(&c);
-        }
-        // Kinetic: ½ q̇ᵀ M q̇ via body twists is not exposed; use the mass matrix.
-        let nv = self.tree.nv();
-        let mut m = vec![0.0; nv * nv];
-        let mut ws = Workspace::new(&self.tree);
-        if crate::dynamics::mass_matrix(&self.tree, &mut ws, &self.q, &mut m).is_ok() {
-            for i in 0..nv {
-                for j in 0..nv {
-                    e += 0.5 * self.qd[i] * m[i * nv + j] * self.qd[j];
-                }
-            }
-        }
-        e
     }
 }
 
