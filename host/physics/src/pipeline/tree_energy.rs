@@ -194,7 +194,7 @@ impl ArticulatedSystem {
         let e1 = parts.total();
         let excess = e1 - e0 - work;
         let scale = e0.abs() + e1.abs() + work.abs();
-        if !(excess > ROUND_OFF * scale) || !excess.is_finite() {
+        if !excess.is_finite() || excess <= ROUND_OFF * scale {
             return 0.0;
         }
         let alpha = velocity_scale(&parts, parts.kinetic() - excess);
