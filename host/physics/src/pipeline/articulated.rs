@@ -211,36 +211,34 @@ impl ArticulatedSystem {
     /// the prescribed coordinates landing on their trajectories at `t_end` (for trees that
     /// [step prescribed alone](Self::steps_prescribed_alone)).
     pub(crate) fn step_until(&mut self, h: f64, t_end: f64) -> Result<(), DynamicsError> {
+        if self.drives.is_empty() {
+            return self.step(h);
+        }
         // A tree under prescribed motion holds the energy balance of its linearly implicit
         // step (`pipeline/tree_energy.rs`); a tree with no drive is left to the step alone.
-        let balanced = !self.drives.is_empty()
-            && matches!(
-                self.integrator,
-                IntegratorKind::SymplecticEuler | IntegratorKind::ImplicitGyroscopic
-            );
-        let e0 = balanced.then(|| self.energy_now());
-        self.given_impulses.clear();
-        if self.drives.is_empty() {
-            self.step(h)?;
-        } else {
-            let mut given = std::mem::take(&mut self.given);
-            given.clear();
-            for d in &self.drives {
-                if let (super::drives::DriveKind::Prescribed(traj), Some(q)) =
-                    (&d.kind, self.q_of_dof(d.dof))
-                {
-                    given.push((d.dof, (traj.at(t_end) - q) / h - self.qd[d.dof]));
-                }
+        let e0 = matches!(
+            self.integrator,
+            IntegratorKind::SymplecticEuler | IntegratorKind::ImplicitGyroscopic
+        )
+        .then(|| self.energy_now());
+        let mut given = std::mem::take(&mut self.given);
+        given.clear();
+        for d in &self.drives {
+            if let (super::drives::DriveKind::Prescribed(traj), Some(q)) =
+                (&d.kind, self.q_of_dof(d.dof))
+            {
+                given.push((d.dof, (traj.at(t_end) - q) / h - self.qd[d.dof]));
             }
-            self.given = given;
-            let r = self.implicit_velocity(h);
-            self.given.clear();
-            r?;
-            let impulses = std::mem::take(&mut self.given_impulses);
-            self.add_prescribed_impulses(&impulses);
-            self.given_impulses = impulses;
-            self.advance_positions(h);
         }
+        self.given = given;
+        self.given_impulses.clear();
+        let r = self.implicit_velocity(h);
+        self.given.clear();
+        r?;
+        let impulses = std::mem::take(&mut self.given_impulses);
+        self.add_prescribed_impulses(&impulses);
+        self.given_impulses = impulses;
+        self.advance_positions(h);
         if let Some(e0) = e0 {
             self.hold_energy_balance(e0, h);
         }
