@@ -28,8 +28,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         s.bodies
             .push(unit_cube([k as f64 * LEAN, 0.0, 0.5 + k as f64]));
     }
-    if args.get(3) == Some(&0.0) {
-        s.effects.retain(|e| *e != Effect::Friction);
+    match args.get(3) {
+        None | Some(1.0) => {}
+        Some(0.0) => s.effects.retain(|e| *e != Effect::Friction),
+        Some(x) => return Err(format!("FRICTION {x}: 0 or 1").into()),
     }
     let mut w = s.build()?;
     let settings = w.settings_mut();
