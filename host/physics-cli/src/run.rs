@@ -123,6 +123,7 @@ fn step_line(w: &World, k: u64, start: &[virtual_physics::geometry::V3]) -> serd
         "stages": stages, "pairs_tested": c.pairs_tested, "contacts": c.contacts,
         "solver_iterations": c.solver_iterations, "awake": c.awake_bodies,
         "contact_colours": c.contact_colours, "contact_groups": c.contact_groups,
+        "fine_substeps": c.fine_substeps, "fine_bodies": c.fine_bodies,
     })
 }
 

@@ -1,8 +1,9 @@
 //! The leaning stack of `tests/hard_stacks.rs` (25 unit boxes, each 3 cm over the one
 //! below) at chosen solver settings: the largest tilt of any box (rad) after 0.1 s and 2 s,
 //! against the tilt at which the stack above the lowest box-on-box contact tips over its
-//! edge, and the largest move of any box (m) after 5 s and 20 s at 1/60 s, with the time
-//! per step.
+//! edge, the substeps its island takes per step at 2 s (0: the step's own; see
+//! `island_substeps.rs`), and the largest move of any box (m) after 5 s and 20 s at 1/60 s,
+//! with the time per step.
 //!
 //!     cargo run -p virtual-physics --release --example leaning_stack -- [SUBSTEPS [HERTZ [EVEN [FRICTION]]]]
 //!
@@ -73,6 +74,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 step as f64 / 60.0,
                 tilt(&w)
             );
+        }
+        if step == 120 {
+            // The stack's island's own substeps per step (0: it takes the step's).
+            print!("island substeps {}, ", w.counters().fine_substeps);
         }
         if step == 300 {
             print!("largest move at 5 s {worst:.4} m, ");

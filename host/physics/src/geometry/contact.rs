@@ -42,6 +42,9 @@ pub struct Manifold {
     pub len: usize,
     /// Accumulated rolling-resistance angular impulse (N·m·s, world), warm started.
     pub rolling_impulse: V3,
+    /// The substep (s) over which the carried impulses were accumulated (they are per
+    /// substep); 0 when none were.
+    pub impulse_substep: f64,
 }
 
 impl Manifold {
@@ -61,6 +64,7 @@ impl Manifold {
             points: [ContactPoint::default(); MAX_MANIFOLD_POINTS],
             len: 0,
             rolling_impulse: V3::zeros(),
+            impulse_substep: 0.0,
         }
     }
 

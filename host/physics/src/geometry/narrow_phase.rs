@@ -483,6 +483,7 @@ impl NarrowPhase {
         }
         if normal_kept {
             m.rolling_impulse = old.map_or(V3::zeros(), |o| o.rolling_impulse);
+            m.impulse_substep = old.map_or(0.0, |o| o.impulse_substep);
         }
         counts.manifolds += 1;
         counts.contacts += m.len;

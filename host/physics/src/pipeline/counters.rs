@@ -101,6 +101,10 @@ pub struct StepCounters {
     pub awake_bodies: usize,
     /// Islands found (with sleeping on).
     pub islands: usize,
+    /// Substeps taken by the islands whose contacts would lean (0: none this step).
+    pub fine_substeps: usize,
+    /// Bodies in those islands.
+    pub fine_bodies: usize,
 }
 
 impl StepCounters {

@@ -363,14 +363,23 @@ impl FreeIntegrator {
 
     /// The pose stage over `h` seconds, after the solve; adds the change to `dp` and `dtheta`.
     pub fn integrate_positions(&mut self, b: &mut BodySet, h: f64) {
-        self.pose_stage(b, h);
+        self.integrate_positions_of(b, h, true);
+    }
+
+    /// [`FreeIntegrator::integrate_positions`] of the awake dynamic bodies, and of the
+    /// kinematic ones only when `kinematic` (the extra substeps of an island move its own
+    /// bodies alone: the kinematic bodies took the step's substeps already).
+    pub(crate) fn integrate_positions_of(&mut self, b: &mut BodySet, h: f64, kinematic: bool) {
+        self.pose_stage(b, h, kinematic);
         self.since_orthonormalized += 1;
         if self.since_orthonormalized >= ORTHONORMALIZE_PERIOD {
             self.since_orthonormalized = 0;
             for i in 0..b.len() {
                 let moving = match b.kind[i] {
                     BodyKind::Dynamic => b.awake[i],
-                    BodyKind::Kinematic => b.omega[i] != V3::zeros() && !b.is_link_proxy(i),
+                    BodyKind::Kinematic => {
+                        kinematic && b.omega[i] != V3::zeros() && !b.is_link_proxy(i)
+                    }
                     BodyKind::Fixed => false,
                 };
                 if moving {
@@ -380,16 +389,18 @@ impl FreeIntegrator {
         }
     }
 
-    fn pose_stage(&mut self, b: &mut BodySet, h: f64) {
+    fn pose_stage(&mut self, b: &mut BodySet, h: f64, kinematic: bool) {
         match self.kind {
             IntegratorKind::SymplecticEuler | IntegratorKind::ImplicitGyroscopic => {
-                lie_group_euler_positions(b, h)
+                lie_group_euler_positions(b, h, kinematic)
             }
             kind => {
                 for i in 0..b.len() {
                     match b.kind[i] {
                         BodyKind::Dynamic if b.awake[i] => self.body_position(kind, b, i, h),
-                        BodyKind::Kinematic if !b.is_link_proxy(i) => lie_group_euler_body(b, i, h),
+                        BodyKind::Kinematic if kinematic && !b.is_link_proxy(i) => {
+                            lie_group_euler_body(b, i, h)
+                        }
                         _ => {}
                     }
                 }
@@ -536,11 +547,11 @@ fn implicit_gyroscopic(w0: &V3, i: &V3, h: f64) -> V3 {
 }
 
 /// `T ← T · Exp(h V)` with the body twist `V = (Rᵀω, Rᵀv)` for every moving body.
-fn lie_group_euler_positions(b: &mut BodySet, h: f64) {
+fn lie_group_euler_positions(b: &mut BodySet, h: f64, kinematic: bool) {
     for i in 0..b.len() {
         let moving = match b.kind[i] {
             BodyKind::Dynamic => b.awake[i],
-            BodyKind::Kinematic => !b.is_link_proxy(i),
+            BodyKind::Kinematic => kinematic && !b.is_link_proxy(i),
             BodyKind::Fixed => false,
         };
         if moving {

@@ -18,6 +18,10 @@ mod ccd;
 #[path = "step_guard.rs"]
 mod step_guard;
 
+#[path = "island_substeps.rs"]
+pub(crate) mod island_substeps;
+use island_substeps::{IslandSubsteps, StepLoads};
+
 #[path = "link_proxies.rs"]
 mod link_proxies;
 
@@ -93,6 +97,17 @@ pub struct SolverSettings {
     pub batch_contacts: bool,
 }
 
+impl SolverSettings {
+    /// The factors `(linear, angular)` (–) the `damping` effect scales the velocities by over
+    /// a substep of `h` (s): `1 / (1 + h c)` for each damping rate `c`.
+    fn damping_factors(&self, h: f64) -> (f64, f64) {
+        (
+            1.0 / (1.0 + h * self.linear_damping),
+            1.0 / (1.0 + h * self.angular_damping),
+        )
+    }
+}
+
 impl Default for SolverSettings {
     fn default() -> Self {
         Self {
@@ -149,6 +164,16 @@ pub struct World {
     excluded_pairs: Vec<u64>,
     batches: ContactBatches,
     batched: bool,
+    /// Islands whose contacts would lean take extra substeps (`island_substeps.rs`).
+    island_substeps: IslandSubsteps,
+    /// Substeps of those islands per substep of the step (1: none this step).
+    fine_factor: usize,
+    /// Per constraint: whether it belongs to such an island.
+    fine_constraint: Vec<bool>,
+    /// The contacts of those islands, coloured and grouped.
+    fine_batches: ContactBatches,
+    /// The bodies' `awake` flags, kept while the extra substeps move only their islands.
+    awake_saved: Vec<bool>,
     /// Checks before and after each step, and the snapshot a failed step is rolled back to.
     guard: step_guard::StepGuard,
     /// For each body, the tree link it stands for (a proxy), if any.
@@ -206,6 +231,11 @@ impl World {
             excluded_pairs: Vec::new(),
             batches: ContactBatches::default(),
             batched: false,
+            island_substeps: IslandSubsteps::default(),
+            fine_factor: 1,
+            fine_constraint: Vec::new(),
+            fine_batches: ContactBatches::default(),
+            awake_saved: Vec::new(),
             guard: step_guard::StepGuard::default(),
             proxies: Vec::new(),
             tree_contacts: TreeContacts::default(),
@@ -457,6 +487,7 @@ impl World {
             let rigid = Softness::rigid(self.settings.contact_bias_rate.min(0.5 * inv_h));
             (rigid, rigid)
         };
+        self.fine_factor = 1;
         if self.settings.soft_contacts {
             let cap = self.settings.contact_hertz_cap * inv_h;
             let stiffness = ContactStiffness {
@@ -469,14 +500,22 @@ impl World {
             for c in &mut self.constraints {
                 c.stiffen(&stiffness);
             }
+            self.plan_island_substeps(&stiffness);
         } else {
             for c in &mut self.constraints {
                 c.set_softness(soft);
             }
         }
+        self.carry_impulses_to_substeps(h);
         self.batched = self.settings.batch_contacts && !self.constraints.is_empty();
         if self.batched {
-            self.batches.build(&self.constraints, self.bodies.len());
+            let fine = &self.fine_constraint;
+            self.batches
+                .build_of(&self.constraints, self.bodies.len(), |ci| !fine[ci]);
+            if self.fine_factor > 1 {
+                self.fine_batches
+                    .build_of(&self.constraints, self.bodies.len(), |ci| fine[ci]);
+            }
             self.counters.contact_colours = self.batches.colours;
             self.counters.contact_groups = self.batches.groups();
         }
@@ -499,12 +538,7 @@ impl World {
         let forces = FreeForces {
             gravity,
             gyroscopic: gyro,
-            damping: damping.then(|| {
-                (
-                    1.0 / (1.0 + h * self.settings.linear_damping),
-                    1.0 / (1.0 + h * self.settings.angular_damping),
-                )
-            }),
+            damping: damping.then(|| self.settings.damping_factors(h)),
         };
         if gyro {
             self.counters.mark(Stage::Gyroscopic);
@@ -514,6 +548,13 @@ impl World {
         }
         self.counters.mark(Stage::Integrate);
         let max_push = self.settings.max_push_velocity;
+        if self.fine_factor > 1 {
+            // The coarse substeps move the other bodies only.
+            self.awake_saved.clone_from(&self.bodies.awake);
+            for (awake, &fine) in self.bodies.awake.iter_mut().zip(&self.island_substeps.fine) {
+                *awake &= !fine;
+            }
+        }
         for sub in 0..n_sub {
             self.integrator
                 .integrate_velocities(&mut self.bodies, h, &forces);
@@ -588,8 +629,19 @@ impl World {
             }
             self.counters.substeps += 1;
         }
+        if self.fine_factor > 1 {
+            let h = h / self.fine_factor as f64;
+            let forces = FreeForces {
+                damping: forces.damping.map(|_| self.settings.damping_factors(h)),
+                ..forces
+            };
+            self.fine_substeps(n_sub * self.fine_factor, h, &forces);
+        }
         if self.batched {
             self.batches.write_back(&mut self.constraints);
+            if self.fine_factor > 1 {
+                self.fine_batches.write_back(&mut self.constraints);
+            }
         }
         if eff.has(Effect::Restitution) && !self.constraints.is_empty() {
             self.counters.mark(Stage::Restitution);
@@ -602,8 +654,11 @@ impl World {
             }
         }
         if let Some(narrow) = self.narrow.as_mut() {
-            for c in &self.constraints {
-                c.store(&mut narrow.manifolds[c.manifold]);
+            let fine_h = h / self.fine_factor as f64;
+            for (c, &fine) in self.constraints.iter().zip(&self.fine_constraint) {
+                let m = &mut narrow.manifolds[c.manifold];
+                c.store(m);
+                m.impulse_substep = if fine { fine_h } else { h };
             }
         }
         if !self.tree_contacts.contacts.is_empty() {
@@ -668,8 +723,10 @@ impl World {
                 self.constraints[ci].warm_start(&mut self.bodies);
             }
         } else {
-            for c in &self.constraints {
-                c.warm_start(&mut self.bodies);
+            for (c, &fine) in self.constraints.iter().zip(&self.fine_constraint) {
+                if !fine {
+                    c.warm_start(&mut self.bodies);
+                }
             }
         }
     }
@@ -694,8 +751,10 @@ impl World {
                 self.constraints[ci].solve(&mut self.bodies, inv_h, max_push, pass);
             }
         } else {
-            for c in &mut self.constraints {
-                c.solve(&mut self.bodies, inv_h, max_push, pass);
+            for (c, &fine) in self.constraints.iter_mut().zip(&self.fine_constraint) {
+                if !fine {
+                    c.solve(&mut self.bodies, inv_h, max_push, pass);
+                }
             }
         }
         // The force-limited motors before the tree contacts, so that a servo pressing a
@@ -715,6 +774,123 @@ impl World {
         }
         // Limits and prescribed motion last: each pass ends on their bounds and trajectories.
         self.solve_tree_drives(soft_static, pass, DriveGroup::Hard);
+    }
+
+    /// Decides which islands take extra substeps this step ([`IslandSubsteps::plan`]) and
+    /// stiffens their contacts for the shorter substep; marks their constraints.
+    fn plan_island_substeps(&mut self, stiffness: &ContactStiffness) {
+        let g = self.gravity.norm();
+        let loaded = self.effects.has(Effect::Gravity) && !self.constraints.is_empty() && g > 0.0;
+        if !loaded {
+            return;
+        }
+        let loads = StepLoads {
+            stiffness,
+            up: -self.gravity / g,
+            gravity: g,
+            manifolds: self.narrow.as_ref().map_or(&[][..], |n| &n.manifolds[..]),
+            joint_pairs: &self.joint_pairs,
+            proxies: &self.proxies,
+            dt: self.dt,
+        };
+        let factor = self
+            .island_substeps
+            .plan(&self.bodies, &self.constraints, &loads);
+        if factor <= 1 {
+            return;
+        }
+        self.fine_factor = factor;
+        let k = factor as f64;
+        let fine_stiffness = ContactStiffness {
+            hertz: stiffness.hertz * k,
+            even_hertz: stiffness.even_hertz * k,
+            static_hertz: stiffness.static_hertz * k,
+            damping_ratio: stiffness.damping_ratio,
+            substep: stiffness.substep / k,
+        };
+        self.fine_constraint.clear();
+        for c in &mut self.constraints {
+            let body = if c.ima > 0.0 { c.a } else { c.b };
+            let fine = self.island_substeps.fine[body];
+            if fine {
+                c.stiffen(&fine_stiffness);
+            }
+            self.fine_constraint.push(fine);
+        }
+        self.counters.fine_substeps = self.settings.substeps.max(1) * factor;
+        self.counters.fine_bodies = self.island_substeps.fine.iter().filter(|f| **f).count();
+    }
+
+    /// Scales each constraint's carried impulses from the substep they were accumulated over
+    /// to the one it takes this step (`h`, or `h / fine_factor` in an island with extra
+    /// substeps).
+    fn carry_impulses_to_substeps(&mut self, h: f64) {
+        if self.fine_factor <= 1 {
+            self.fine_constraint.clear();
+            self.fine_constraint.resize(self.constraints.len(), false);
+        }
+        let Some(narrow) = self.narrow.as_ref() else {
+            return;
+        };
+        let fine_h = h / self.fine_factor as f64;
+        for (c, &fine) in self.constraints.iter_mut().zip(&self.fine_constraint) {
+            let carried = narrow.manifolds[c.manifold].impulse_substep;
+            let now = if fine { fine_h } else { h };
+            if carried > 0.0 && carried != now {
+                c.scale_impulses(now / carried);
+            }
+        }
+    }
+
+    /// The extra substeps of the islands that take them: `substeps` of `h` (s) over their
+    /// bodies and contacts alone (nothing else touches them: the plan keeps islands with
+    /// joints, tree links or moving kinematic bodies out), then every body's `awake` flag
+    /// back as it was.
+    fn fine_substeps(&mut self, substeps: usize, h: f64, forces: &FreeForces) {
+        for (awake, &fine) in self.bodies.awake.iter_mut().zip(&self.island_substeps.fine) {
+            *awake = fine;
+        }
+        let inv_h = 1.0 / h;
+        let max_push = self.settings.max_push_velocity;
+        for sub in 0..substeps {
+            self.integrator
+                .integrate_velocities(&mut self.bodies, h, forces);
+            self.fine_contacts(|c, b| c.warm_start(b), |g, b| g.warm_start(b));
+            let rev = sub % 2 == 1;
+            for (use_bias, reverse) in [(true, rev), (false, !rev)] {
+                let pass = SolvePass { use_bias, reverse };
+                self.fine_contacts(
+                    |c, b| c.solve(b, inv_h, max_push, pass),
+                    |g, b| g.solve(b, inv_h, max_push, pass),
+                );
+                if use_bias {
+                    self.integrator
+                        .integrate_positions_of(&mut self.bodies, h, false);
+                }
+            }
+        }
+        self.bodies.awake.clone_from(&self.awake_saved);
+    }
+
+    /// Runs `one` on each contact constraint of the islands with extra substeps that is
+    /// solved one by one, and `batched` on their coloured groups.
+    fn fine_contacts(
+        &mut self,
+        one: impl Fn(&mut ContactConstraint, &mut BodySet),
+        batched: impl FnOnce(&mut ContactBatches, &mut BodySet),
+    ) {
+        if self.batched {
+            batched(&mut self.fine_batches, &mut self.bodies);
+            for &ci in &self.fine_batches.scalar {
+                one(&mut self.constraints[ci], &mut self.bodies);
+            }
+        } else {
+            for (c, &fine) in self.constraints.iter_mut().zip(&self.fine_constraint) {
+                if fine {
+                    one(c, &mut self.bodies);
+                }
+            }
+        }
     }
 
     /// One pass over the joints: every constraint block at once when they form a forest,

@@ -288,7 +288,18 @@ pub struct ContactBatches {
 
 impl ContactBatches {
     /// Colours and groups `constraints` (each with its own softness).
+    #[cfg(test)]
     pub fn build(&mut self, constraints: &[ContactConstraint], n_bodies: usize) {
+        self.build_of(constraints, n_bodies, |_| true);
+    }
+
+    /// Colours and groups the constraints of `constraints` whose index `include` accepts.
+    pub fn build_of(
+        &mut self,
+        constraints: &[ContactConstraint],
+        n_bodies: usize,
+        include: impl Fn(usize) -> bool,
+    ) {
         self.live = 0;
         self.scalar.clear();
         self.colours = 0;
@@ -304,6 +315,9 @@ impl ContactBatches {
         }
         let bit = |i: usize| (i / 64, 1u64 << (i % 64));
         for (ci, c) in constraints.iter().enumerate() {
+            if !include(ci) {
+                continue;
+            }
             if c.rolling_arm > 0.0 || c.follows {
                 self.scalar.push(ci);
                 continue;

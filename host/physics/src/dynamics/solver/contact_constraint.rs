@@ -12,6 +12,10 @@ use crate::geometry::{Manifold, Shape, M3, MAX_MANIFOLD_POINTS, V3};
 /// Overlap allowed without position correction (m): keeps resting contacts from jittering.
 pub const LINEAR_SLOP: f64 = 1e-4;
 
+/// A contact narrower than this (m) along its load's offset gives no tilt in
+/// [`ContactConstraint::column_tilt`].
+const TILT_MIN_SPAN: f64 = 1e-3;
+
 /// A round part whose centre of curvature lies farther than this (m) from its body's centre
 /// of mass moves its contact point with the body's turn during the step
 /// ([`ContactConstraint::follows`]); closer, the lever arm it would correct is below this
@@ -106,8 +110,8 @@ pub struct ContactConstraint {
     pub manifold: usize,
     pub(super) normal: V3,
     pub(super) tangents: [V3; 2],
-    pub(super) ima: f64,
-    pub(super) imb: f64,
+    pub(crate) ima: f64,
+    pub(crate) imb: f64,
     ia: M3,
     ib: M3,
     pub(super) friction: f64,
@@ -392,6 +396,83 @@ impl ContactConstraint {
         self.softness = k.softness(self.against_static, self.mass_ratio());
     }
 
+    /// The tilt (rad) this contact takes at rest under a column of weight `weight` (N) whose
+    /// centre of mass is at `com` (m, world); `origin_a` is body A's centre of mass (m, world),
+    /// `up` the unit vector against gravity and `omega` the normal rows' stiffness (rad/s).
+    ///
+    /// Where the weight's line falls within the middle third of the contact (seen from the
+    /// points' centroid towards it), every point stays loaded and the contact has no tilt to
+    /// give. Beyond, the far side lifts and the points on the near side carry the whole
+    /// weight, each row a spring of its effective mass, `m ω²`: they sink
+    /// `weight / Σ m ω²`, and the body above tilts by that sink over the contact's width
+    /// along the offset.
+    pub(crate) fn column_tilt(
+        &self,
+        origin_a: &V3,
+        com: &V3,
+        weight: f64,
+        up: &V3,
+        omega: f64,
+    ) -> f64 {
+        let points = &self.points[..self.len];
+        if points.len() < 2 {
+            return 0.0;
+        }
+        let flat = |v: V3| v - up * up.dot(&v);
+        let centroid = points.iter().map(|p| p.ra).sum::<V3>() / points.len() as f64 + origin_a;
+        let offset = flat(com - centroid);
+        let e = offset.norm();
+        if e.is_nan() || e <= 0.0 {
+            return 0.0;
+        }
+        let d = offset / e;
+        let along = |p: &PointConstraint| d.dot(&flat(origin_a + p.ra - centroid));
+        let (mut near, mut far) = (f64::NEG_INFINITY, f64::INFINITY);
+        let mut stiffness = 0.0;
+        for p in points {
+            let s = along(p);
+            near = near.max(s);
+            far = far.min(s);
+            if s > 0.0 {
+                stiffness += p.n.mass * omega * omega;
+            }
+        }
+        let span = near - far;
+        let lifts = near > 0.0 && e > near / 3.0 && span >= TILT_MIN_SPAN && stiffness > 0.0;
+        if !lifts {
+            return 0.0;
+        }
+        weight / stiffness / span
+    }
+
+    /// The normal (world, from A to B).
+    pub(crate) fn normal(&self) -> V3 {
+        self.normal
+    }
+
+    /// The sum of the carried normal impulses (N·s).
+    pub(crate) fn normal_impulse(&self) -> f64 {
+        self.points[..self.len]
+            .iter()
+            .map(|p| p.normal_impulse)
+            .sum()
+    }
+
+    /// The first point's anchor on body A (m, world, from A's centre of mass).
+    pub(crate) fn anchor_a(&self) -> V3 {
+        self.points[0].ra
+    }
+
+    /// Scales the carried impulses by `f` (–): impulses are accumulated per substep, so a
+    /// contact whose substep changes from `h₀` to `h` carries `h / h₀` of them.
+    pub(crate) fn scale_impulses(&mut self, f: f64) {
+        for pc in &mut self.points[..self.len] {
+            pc.normal_impulse *= f;
+            pc.tangent_impulse = [pc.tangent_impulse[0] * f, pc.tangent_impulse[1] * f];
+        }
+        self.rolling_impulse *= f;
+    }
+
     /// Ratio of the heavier to the lighter moving body (1 against a body that does not move).
     pub fn mass_ratio(&self) -> f64 {
         if self.against_static {
@@ -588,5 +669,77 @@ impl ContactConstraint {
             cp.max_normal_impulse = pc.max_normal_impulse;
         }
         m.rolling_impulse = self.rolling_impulse;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::{BodyKind, Material};
+
+    /// Two unit boxes of 1 kg, B on A, with a face contact at the four corners of `z = 1`.
+    fn box_on_box() -> (BodySet, ContactConstraint) {
+        let mut b = BodySet::default();
+        for z in [0.5, 1.5] {
+            b.push(
+                String::new(),
+                BodyKind::Dynamic,
+                Shape::Cuboid {
+                    half: V3::new(0.5, 0.5, 0.5),
+                },
+                Material::default(),
+                1.0,
+                V3::new(0.0, 0.0, z),
+                M3::identity(),
+                V3::zeros(),
+                V3::zeros(),
+            );
+        }
+        b.update_world_inertia();
+        let mut m = Manifold::new(0, 1);
+        m.normal = V3::z();
+        for (x, y) in [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)] {
+            m.push(V3::new(x, y, 1.0), 0.0);
+        }
+        let c = ContactConstraint::prepare(&b, &m, 0, &ContactSettings::default());
+        (b, c)
+    }
+
+    #[test]
+    fn a_column_tilts_its_contact_only_beyond_the_middle_third() {
+        let (b, c) = box_on_box();
+        let (origin, up, weight) = (b.pos[0], V3::z(), 24.0 * 9.81);
+        let omega = 2.0 * std::f64::consts::PI * 180.0;
+        // Within the middle third (a sixth of the width from the centre): no tilt.
+        for x in [0.0, 0.1, -0.16] {
+            let com = V3::new(x, 0.0, 13.0);
+            assert_eq!(
+                c.column_tilt(&origin, &com, weight, &up, omega),
+                0.0,
+                "x = {x}"
+            );
+        }
+        // Beyond it the two points on the near side carry the weight as springs of their
+        // rows' effective masses, and the contact tilts by their sink over its 1 m width.
+        let near: f64 = c.points[..c.len]
+            .iter()
+            .filter(|p| p.ra.x > 0.0)
+            .map(|p| p.n.mass)
+            .sum();
+        let expected = weight / (near * omega * omega) / 1.0;
+        let tilt = c.column_tilt(&origin, &V3::new(0.3, 0.0, 13.0), weight, &up, omega);
+        assert!(
+            (tilt - expected).abs() <= 1e-12 * expected,
+            "{tilt} {expected}"
+        );
+        // The tilt is the same whichever way the offset points, and twice the weight tilts
+        // twice as much.
+        let other = c.column_tilt(&origin, &V3::new(0.0, -0.3, 13.0), weight, &up, omega);
+        assert!(
+            (other - expected).abs() <= 1e-9 * expected,
+            "{other} {expected}"
+        );
+        let double = c.column_tilt(&origin, &V3::new(0.3, 0.0, 13.0), 2.0 * weight, &up, omega);
+        assert!((double - 2.0 * expected).abs() <= 1e-12 * expected);
     }
 }
