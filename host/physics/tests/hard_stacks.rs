@@ -22,6 +22,7 @@ use virtual_physics::dynamics::BodyKind;
 use virtual_physics::geometry::Shape;
 use virtual_physics::pipeline::World;
 use virtual_physics::scene::builtin::{pyramid, towers, unit_cube};
+use virtual_physics::scene::BodyKindDesc;
 
 mod run_length;
 mod scene_order;
@@ -99,6 +100,28 @@ fn a_leaning_stack_of_25_boxes_stands() {
         extra > 12,
         "the stack's island took no extra substeps ({extra})"
     );
+}
+
+#[test]
+fn a_leaning_stack_pushed_by_a_moving_kinematic_body_keeps_the_steps_substeps() {
+    // A kinematic box sliding slowly against the bottom box: its motion is integrated at the
+    // step's substeps, so the island it touches takes them too.
+    let n = 25;
+    let mut s = towers(1, 1, 0);
+    for k in 0..n {
+        s.bodies
+            .push(unit_cube([k as f64 * LEAN_PER_LAYER, 0.0, 0.5 + k as f64]));
+    }
+    let mut pusher = unit_cube([-1.0, 0.0, 0.5]);
+    pusher.kind = BodyKindDesc::Kinematic;
+    pusher.velocity = [0.001, 0.0, 0.0];
+    s.bodies.push(pusher);
+    let mut w = s.build().unwrap();
+    for _ in 0..length(60, 120) {
+        w.step().unwrap();
+        assert_eq!(w.counters().fine_substeps, 0, "at t = {} s", w.time());
+    }
+    // Without the pusher the same stack takes them (a_leaning_stack_of_25_boxes_stands).
 }
 
 #[test]
