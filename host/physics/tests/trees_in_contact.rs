@@ -383,14 +383,14 @@ fn an_arm_whose_motors_press_a_box_onto_the_ground_reaches_static_equilibrium() 
     for _ in 0..500 {
         w.step().expect("finite");
     }
-    // Normal impulses are per substep: force = impulse / substep.
+    // Normal impulses are per substep: force = impulse / substep, which `force` divides.
     let h = dt / SolverSettings::default().substeps as f64;
     let force_on = |body: BodyHandle| -> f64 {
-        w.contacts()
-            .filter(|c| c.a == ground && c.b == body)
-            .map(|c| c.normal_impulse())
-            .sum::<f64>()
-            / h
+        let on = || w.contacts().filter(|c| c.a == ground && c.b == body);
+        let force: f64 = on().map(|c| c.force()).sum();
+        let impulse: f64 = on().map(|c| c.normal_impulse()).sum();
+        assert!((force - impulse / h).abs() <= 1e-9 * force.abs());
+        force
     };
     let push = (tau_max + m_link * G * 0.5 * lengths[2]) / lengths[2];
     let expected = m_box * G + push;

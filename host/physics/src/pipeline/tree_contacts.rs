@@ -507,7 +507,7 @@ impl TreeContacts {
     /// step (every substep's, N·s): a link that keeps pushing through the substeps (a
     /// driven rod kicking the ball) gives its impact in parts, and the step's sum is the
     /// impact's strength.
-    pub(crate) fn store(&self, manifolds: &mut [Manifold]) {
+    pub(crate) fn store(&self, manifolds: &mut [Manifold], substep: f64) {
         for &mi in &self.inert {
             let m = &mut manifolds[mi];
             for cp in m.points[..m.len].iter_mut() {
@@ -515,9 +515,11 @@ impl TreeContacts {
                 cp.tangent_impulse = [0.0; 2];
                 cp.max_normal_impulse = 0.0;
             }
+            m.impulse_substep = 0.0;
         }
         for c in &self.contacts {
             let m = &mut manifolds[c.manifold];
+            m.impulse_substep = substep;
             for (cp, pc) in m.points[..m.len].iter_mut().zip(&c.points) {
                 cp.normal_impulse = pc.normal_impulse;
                 cp.tangent_impulse = pc.tangent_impulse;

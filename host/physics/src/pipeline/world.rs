@@ -668,7 +668,7 @@ impl World {
                     .restitution(&mut self.bodies, &mut self.articulated, th);
             }
             if let Some(narrow) = self.narrow.as_mut() {
-                self.tree_contacts.store(&mut narrow.manifolds);
+                self.tree_contacts.store(&mut narrow.manifolds, h);
             }
         }
         self.step_articulated(h)?;

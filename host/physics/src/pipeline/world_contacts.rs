@@ -49,14 +49,26 @@ impl Contact<'_> {
             .fold(0.0, f64::max)
     }
 
-    /// The total normal impulse (N·s) at the end of the last step; divided by the step, the
-    /// contact force (N).
+    /// The total normal impulse (N·s) of the last substep (impulses are accumulated per
+    /// substep); divided by that substep, the contact force ([`Contact::force`]).
     pub fn normal_impulse(&self) -> f64 {
         self.manifold
             .points()
             .iter()
             .map(|p| p.normal_impulse)
             .sum()
+    }
+
+    /// The total normal force (N) the contact carried at the end of the last step: its normal
+    /// impulse over the substep it was accumulated in (the step's substep, or an island's
+    /// shorter one); 0 for a contact that has carried none.
+    pub fn force(&self) -> f64 {
+        let h = self.manifold.impulse_substep;
+        if h > 0.0 {
+            self.normal_impulse() / h
+        } else {
+            0.0
+        }
     }
 }
 
