@@ -24,6 +24,7 @@
 //! four of six runs at 96 substeps, contacts at 950–970 Hz).
 
 use super::super::tree_contacts::Proxy;
+use super::super::union_find::UnionFind;
 use crate::dynamics::solver::softness::UNEVEN_MASS_RATIO;
 use crate::dynamics::solver::{ContactConstraint, ContactStiffness};
 use crate::dynamics::{BodyKind, BodySet};
@@ -48,7 +49,7 @@ pub const FACTOR_HOLD_TIME: f64 = 0.5;
 /// The plan's buffers, kept between steps.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct IslandSubsteps {
-    parent: Vec<u32>,
+    sets: UnionFind,
     /// Per body: its island cannot take extra substeps.
     blocked: Vec<bool>,
     /// Per body: its column.
@@ -116,22 +117,6 @@ pub(crate) struct StepLoads<'a> {
 }
 
 impl IslandSubsteps {
-    fn find(&mut self, mut i: usize) -> usize {
-        while self.parent[i] as usize != i {
-            let p = self.parent[i] as usize;
-            self.parent[i] = self.parent[p];
-            i = p;
-        }
-        i
-    }
-
-    fn union(&mut self, a: usize, b: usize) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            self.parent[ra.max(rb)] = ra.min(rb) as u32;
-        }
-    }
-
     /// Decides the step's substep factor `k` (1: none) and which bodies take it
     /// ([`IslandSubsteps::fine`]).
     pub(crate) fn plan(
@@ -249,8 +234,7 @@ impl IslandSubsteps {
         }
         // Islands of moving bodies joined by contacts; those with joints, tree links or moving
         // kinematic bodies are blocked.
-        self.parent.clear();
-        self.parent.extend(0..n as u32);
+        self.sets.reset(n);
         self.blocked.clear();
         self.blocked.resize(n, false);
         let kinematic_moving = |i: usize| {
@@ -259,7 +243,7 @@ impl IslandSubsteps {
         };
         for c in constraints {
             if c.ima > 0.0 && c.imb > 0.0 {
-                self.union(c.a, c.b);
+                self.sets.union(c.a, c.b);
                 if c.mass_ratio() >= UNEVEN_MASS_RATIO {
                     self.blocked[c.a] = true;
                 }
@@ -285,7 +269,7 @@ impl IslandSubsteps {
             }
         }
         for i in 0..n {
-            let r = self.find(i);
+            let r = self.sets.find(i);
             if self.blocked[i] {
                 self.blocked[r] = true;
             }
@@ -303,7 +287,7 @@ impl IslandSubsteps {
                 self.held[i] = (1, 0.0);
                 continue;
             }
-            let r = self.find(i);
+            let r = self.sets.find(i);
             let (k, t) = &mut self.held[i];
             if self.blocked[r] {
                 (*k, *t) = (1, 0.0);
@@ -323,7 +307,7 @@ impl IslandSubsteps {
         let mut factor = 1;
         for i in 0..n {
             if moving(i) {
-                let k = island_factor[self.find(i)];
+                let k = island_factor[self.sets.find(i)];
                 if k > 1 {
                     self.fine[i] = true;
                     factor = factor.max(k);

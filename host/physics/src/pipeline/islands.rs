@@ -6,6 +6,8 @@
 use crate::dynamics::{BodyKind, BodySet};
 use crate::geometry::Manifold;
 
+use super::union_find::UnionFind;
+
 /// Seconds of rest before an island sleeps.
 pub const TIME_TO_SLEEP: f64 = 0.5;
 /// Speed below which a body counts as resting (m/s).
@@ -16,27 +18,11 @@ pub const ANGULAR_SLEEP_SPEED: f64 = 0.05;
 /// Union–find buffers, kept between steps.
 #[derive(Clone, Debug, Default)]
 pub struct Islands {
-    parent: Vec<u32>,
+    sets: UnionFind,
     min_sleep: Vec<f64>,
 }
 
 impl Islands {
-    fn find(&mut self, mut i: usize) -> usize {
-        while self.parent[i] as usize != i {
-            let p = self.parent[i] as usize;
-            self.parent[i] = self.parent[p];
-            i = p;
-        }
-        i
-    }
-
-    fn union(&mut self, a: usize, b: usize) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            self.parent[ra.max(rb)] = ra.min(rb) as u32;
-        }
-    }
-
     /// Updates sleep timers over `dt` (s), builds islands from touching manifolds and joint
     /// pairs, and sets `awake`. Returns the number of islands of dynamic bodies.
     pub fn update(
@@ -47,8 +33,7 @@ impl Islands {
         dt: f64,
     ) -> usize {
         let n = bodies.len();
-        self.parent.clear();
-        self.parent.extend(0..n as u32);
+        self.sets.reset(n);
         self.min_sleep.clear();
         self.min_sleep.resize(n, f64::INFINITY);
         for i in 0..n {
@@ -73,7 +58,7 @@ impl Islands {
                 bodies.kind[b] == BodyKind::Dynamic,
             );
             if da && db {
-                self.union(a, b);
+                self.sets.union(a, b);
             } else if da && moving_kinematic(bodies, b) {
                 bodies.sleep_time[a] = 0.0;
             } else if db && moving_kinematic(bodies, a) {
@@ -82,13 +67,13 @@ impl Islands {
         }
         for &(a, b) in joints {
             if bodies.kind[a] == BodyKind::Dynamic && bodies.kind[b] == BodyKind::Dynamic {
-                self.union(a, b);
+                self.sets.union(a, b);
             }
         }
         let mut islands = 0;
         for i in 0..n {
             if bodies.kind[i] == BodyKind::Dynamic {
-                let r = self.find(i);
+                let r = self.sets.find(i);
                 if self.min_sleep[r] == f64::INFINITY {
                     islands += 1;
                 }
@@ -99,7 +84,7 @@ impl Islands {
             if bodies.kind[i] != BodyKind::Dynamic {
                 continue;
             }
-            let r = self.find(i);
+            let r = self.sets.find(i);
             let awake = self.min_sleep[r] < TIME_TO_SLEEP;
             if !awake && bodies.awake[i] {
                 bodies.vel[i].fill(0.0);

@@ -20,6 +20,7 @@ mod integrator;
 mod inverse_mass;
 mod islands;
 mod tree_contacts;
+mod union_find;
 pub mod world;
 mod world_builder;
 
