@@ -66,14 +66,37 @@ fn fastest_point(w: &World) -> f64 {
 /// Boxes shifted along x by this much (m) per layer in the leaning stack.
 const LEAN_PER_LAYER: f64 = 0.03;
 
-/// A stack of `n` unit boxes on the ground, each shifted `lean` (m) along x over the one below.
-fn stack(n: usize, lean: f64) -> World {
+/// A stack of `n` unit boxes on the ground, each shifted `lean` (m) along x over the one below,
+/// stepped at `dt` (s).
+fn stack_at(n: usize, lean: f64, dt: f64) -> World {
     let mut s = towers(1, 1, 0);
     for k in 0..n {
         s.bodies
             .push(unit_cube([k as f64 * lean, 0.0, 0.5 + k as f64]));
     }
+    s.dt = dt;
     s.build().unwrap()
+}
+
+/// The same at the scenes' 1/60 s.
+fn stack(n: usize, lean: f64) -> World {
+    stack_at(n, lean, 1.0 / 60.0)
+}
+
+/// The largest move (m) of any body from its start over `steps` steps of `w`, and the most
+/// substeps and stiffened bodies the islands took in any step.
+fn largest_move(w: &mut World, steps: usize) -> (f64, usize, usize) {
+    let start = positions(w);
+    let (mut worst, mut substeps, mut stiffened): (f64, usize, usize) = (0.0, 0, 0);
+    for _ in 0..steps {
+        w.step().unwrap();
+        for (b, p0) in w.bodies().zip(&start) {
+            worst = worst.max((b.position() - p0).norm());
+        }
+        substeps = substeps.max(w.counters().fine_substeps);
+        stiffened = stiffened.max(w.counters().fine_bodies);
+    }
+    (worst, substeps, stiffened)
 }
 
 #[test]
@@ -84,22 +107,27 @@ fn a_leaning_stack_of_25_boxes_stands() {
     let overhang = (n as f64) / 2.0 * LEAN_PER_LAYER;
     assert!(overhang < 0.5 - 0.1, "not statically stable with margin");
     let mut w = stack(n, LEAN_PER_LAYER);
-    let start = positions(&w);
-    let mut worst: f64 = 0.0;
-    let mut extra = 0;
-    for _ in 0..length(300, 1200) {
-        w.step().unwrap();
-        for (b, p0) in w.bodies().zip(&start) {
-            worst = worst.max((b.position() - p0).norm());
-        }
-        extra = extra.max(w.counters().fine_substeps);
-    }
+    let (worst, extra, _) = largest_move(&mut w, length(300, 1200));
+    eprintln!("leaning stack, 1/60 s: largest move {worst:.4} m, island substeps {extra}");
     assert_finite(&w, "leaning stack");
     assert!(worst <= 0.02, "a box moved {worst} m");
     assert!(
         extra > 12,
         "the stack's island took no extra substeps ({extra})"
     );
+}
+
+#[test]
+fn a_leaning_stack_stands_at_1_ms_on_stiffer_contacts_alone() {
+    // At the game's 1 ms the step's contacts are far below the stiffness cap: the island's
+    // contacts stiffen without extra substeps.
+    let mut w = stack_at(25, LEAN_PER_LAYER, 1e-3);
+    let (worst, extra, stiffened) = largest_move(&mut w, length(2000, 20_000));
+    eprintln!("leaning stack, 1 ms: largest move {worst:.4} m, island substeps {extra}");
+    assert_finite(&w, "leaning stack at 1 ms");
+    assert!(worst <= 0.02, "a box moved {worst} m");
+    assert_eq!(extra, 0, "extra substeps at 1 ms");
+    assert_eq!(stiffened, 25, "the stack's contacts were not stiffened");
 }
 
 #[test]

@@ -101,9 +101,11 @@ pub struct StepCounters {
     pub awake_bodies: usize,
     /// Islands found (with sleeping on).
     pub islands: usize,
-    /// Substeps taken by the islands whose contacts would lean (0: none this step).
+    /// Substeps taken by the islands whose contacts would lean, where they take more than the
+    /// step's (0: none this step).
     pub fine_substeps: usize,
-    /// Bodies in those islands.
+    /// Bodies in the islands whose contacts would lean (stiffened, on extra substeps where
+    /// the stiffness cap asks for them).
     pub fine_bodies: usize,
 }
 

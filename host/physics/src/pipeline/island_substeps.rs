@@ -1,27 +1,30 @@
-//! Extra substeps for the islands whose resting contacts would lean.
+//! Stiffer contacts, and the extra substeps they need, for the islands whose resting stacks
+//! would lean.
 //!
 //! A soft contact is a spring of its normal rows' effective mass at the step's contact
 //! stiffness, so under a steady load it sinks `F / (m ω²)`. Evenly loaded, every point of a
-//! contact sinks alike and the bodies only settle. Loaded on one edge, as under a stack whose
+//! contact sinks alike and the bodies only settle. Loaded on one edge, as under a column whose
 //! centre of mass lies outside the middle third of the contact, one edge sinks and the other
-//! lifts: the bodies above tilt by that sink over the contact's width, and a tall stack leans
-//! by the tilt times its height, which moves its load further out (the lean feeds on itself).
-//! Stiffness is bounded by the substep (a quarter of its rate), so the cure is a shorter
-//! substep, and it is needed only where such loads are.
+//! lifts: the column tilts by that sink over the contact's width, and its top leans by the
+//! tilt times its height, which moves its load further out (the lean feeds on itself).
 //!
-//! Each step, before the solve, [`IslandSubsteps::plan`] reads the loads the contacts carried
-//! in the last step (their warm-start impulses) and predicts, at the step's own substep and
-//! stiffness, each contact's elastic tilt ([`ContactConstraint::elastic_tilt`]) times the
-//! height of its island above it: the lean that contact gives the island's top. An island whose
-//! largest lean exceeds [`LEAN_TOLERANCE`] is solved with `k` substeps for each of the step's,
-//! at contacts `k` times as stiff (the same fraction of the substep rate), where `k` is the
-//! least factor that brings the lean within the tolerance (the sink falls as `1 / k²`), at most
-//! [`MAX_SUBSTEP_FACTOR`]. Islands with joints, tree links or moving kinematic bodies keep the
-//! step's substeps (their other constraints are solved at that rate), and so do islands with
-//! a contact between moving bodies whose masses differ [`UNEVEN_MASS_RATIO`] times or more:
-//! there the extra passes do harm (measured: a 500 kg box dropped 0.5 m onto a 10-layer
-//! pyramid of 1 kg boxes, which the step's 12 substeps carry, sank through it within 3 s in
-//! four of six runs at 96 substeps, contacts at 950–970 Hz).
+//! Each step, before the solve, [`IslandSubsteps::plan`] finds the columns: each moving body
+//! that stands on exactly one supporting contact (loaded in the last step, its normal within
+//! 45° of the vertical) and the bodies that stand on it alone, their weight, centre of mass and
+//! top gathered from the tops down. It predicts, at the step's contact stiffness, the tilt the
+//! column's static load gives its contact ([`ContactConstraint::column_tilt`]) times the
+//! column's height above it: the lean of the column's top. An island whose largest lean
+//! exceeds [`LEAN_TOLERANCE`] takes contacts `k` times as stiff, `k` the least factor that
+//! brings the lean within the tolerance (the sink falls as `1 / k²`), at most
+//! [`MAX_SUBSTEP_FACTOR`]; the world gives it as many substeps for each of its own as keep
+//! those contacts within the stiffness cap (a quarter of the substep rate): `k` at 1/60 s,
+//! where the step's contacts are at the cap already, none extra at 1 ms. Islands with joints,
+//! tree links or moving kinematic bodies keep the step's contacts and substeps (their other
+//! constraints are solved at that rate), and so do islands with a contact between moving
+//! bodies whose masses differ [`UNEVEN_MASS_RATIO`] times or more: there the extra passes do
+//! harm (measured: a 500 kg box dropped 0.5 m onto a 10-layer pyramid of 1 kg boxes, which the
+//! step's 12 substeps carry, sank through it within 3 s in four of six runs at 96 substeps,
+//! contacts at 950–970 Hz).
 
 use super::super::tree_contacts::Proxy;
 use super::super::union_find::UnionFind;
@@ -37,7 +40,8 @@ pub const LEAN_TOLERANCE: f64 = 1e-3;
 /// A contact whose normal is within 45° of the vertical supports the body on top (–).
 const SUPPORT_COSINE: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
-/// Most substeps an island takes for each of the step's (–).
+/// Largest stiffness factor of an island's contacts, and so of its substeps for each of the
+/// step's (–).
 pub const MAX_SUBSTEP_FACTOR: usize = 8;
 
 /// How long (s) an island keeps a factor after its loads last asked for it. The loads answer
@@ -54,7 +58,7 @@ pub(crate) struct IslandSubsteps {
     blocked: Vec<bool>,
     /// Per body: its column.
     column: Vec<Column>,
-    /// Per body (island root): the island's substep factor.
+    /// Per body (island root): the island's stiffness factor.
     factor: Vec<usize>,
     /// Per body (island root): the largest lean of the island's contacts (m).
     lean: Vec<f64>,
@@ -117,7 +121,7 @@ pub(crate) struct StepLoads<'a> {
 }
 
 impl IslandSubsteps {
-    /// Decides the step's substep factor `k` (1: none) and which bodies take it
+    /// Decides the step's stiffness factor `k` (1: none) and which bodies' contacts take it
     /// ([`IslandSubsteps::fine`]).
     pub(crate) fn plan(
         &mut self,
@@ -319,9 +323,9 @@ impl IslandSubsteps {
     }
 }
 
-/// The least substep factor (–) that brings an elastic lean of `lean` (m) at the step's
-/// substep within [`LEAN_TOLERANCE`]: the sink of a soft contact at a fixed fraction of the
-/// substep rate falls as the square of the factor.
+/// The least stiffness factor (–) that brings an elastic lean of `lean` (m) at the step's
+/// contacts within [`LEAN_TOLERANCE`]: the sink of a soft contact falls as the square of its
+/// frequency.
 pub(crate) fn substep_factor(lean: f64) -> usize {
     let k = (lean / LEAN_TOLERANCE).sqrt().ceil();
     if k.is_nan() {

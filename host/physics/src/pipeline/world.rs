@@ -776,8 +776,9 @@ impl World {
         self.solve_tree_drives(soft_static, pass, DriveGroup::Hard);
     }
 
-    /// Decides which islands take extra substeps this step ([`IslandSubsteps::plan`]) and
-    /// stiffens their contacts for the shorter substep; marks their constraints.
+    /// Decides which islands need stiffer contacts this step ([`IslandSubsteps::plan`]),
+    /// stiffens them, and gives them the extra substeps that keep them within the stiffness
+    /// cap; marks the constraints that take those substeps.
     fn plan_island_substeps(&mut self, stiffness: &ContactStiffness) {
         let g = self.gravity.norm();
         let loaded = self.effects.has(Effect::Gravity) && !self.constraints.is_empty() && g > 0.0;
@@ -799,14 +800,18 @@ impl World {
         if factor <= 1 {
             return;
         }
-        self.fine_factor = factor;
+        // Contacts `factor` times as stiff, on as many substeps as keep them within the cap
+        // (none more where the step's contacts are far below it, as at 1 ms).
         let k = factor as f64;
+        let cap = self.settings.contact_hertz_cap / stiffness.substep;
+        let stiffest = stiffness.hertz.max(stiffness.even_hertz) * k;
+        let substeps = ((stiffest / cap).ceil() as usize).clamp(1, factor);
         let fine_stiffness = ContactStiffness {
             hertz: stiffness.hertz * k,
             even_hertz: stiffness.even_hertz * k,
             static_hertz: stiffness.static_hertz * k,
             damping_ratio: stiffness.damping_ratio,
-            substep: stiffness.substep / k,
+            substep: stiffness.substep / substeps as f64,
         };
         self.fine_constraint.clear();
         for c in &mut self.constraints {
@@ -815,9 +820,12 @@ impl World {
             if fine {
                 c.stiffen(&fine_stiffness);
             }
-            self.fine_constraint.push(fine);
+            self.fine_constraint.push(fine && substeps > 1);
         }
-        self.counters.fine_substeps = self.settings.substeps.max(1) * factor;
+        self.fine_factor = substeps;
+        if substeps > 1 {
+            self.counters.fine_substeps = self.settings.substeps.max(1) * substeps;
+        }
         self.counters.fine_bodies = self.island_substeps.fine.iter().filter(|f| **f).count();
     }
 
