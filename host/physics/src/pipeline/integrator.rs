@@ -128,8 +128,9 @@ pub struct FreeIntegrator {
     pi0: Vec<V3>,
     pi_mid: Vec<V3>,
     pending: Vec<bool>,
-    /// Pose stages since the rotations were last re-orthonormalised.
-    since_orthonormalized: u32,
+    /// Pose stages since the rotations were last re-orthonormalised: the step's substeps, and
+    /// the extra substeps of islands (counted apart, so that each set of bodies gets its turn).
+    since_orthonormalized: [u32; 2],
 }
 
 /// Every this many pose stages the rotations of the moving bodies get one Newton–Schulz step
@@ -363,23 +364,27 @@ impl FreeIntegrator {
 
     /// The pose stage over `h` seconds, after the solve; adds the change to `dp` and `dtheta`.
     pub fn integrate_positions(&mut self, b: &mut BodySet, h: f64) {
-        self.integrate_positions_of(b, h, true);
+        self.positions(b, h, true);
     }
 
-    /// [`FreeIntegrator::integrate_positions`] of the awake dynamic bodies, and of the
-    /// kinematic ones only when `kinematic` (the extra substeps of an island move its own
-    /// bodies alone: the kinematic bodies took the step's substeps already).
-    pub(crate) fn integrate_positions_of(&mut self, b: &mut BodySet, h: f64, kinematic: bool) {
-        self.pose_stage(b, h, kinematic);
-        self.since_orthonormalized += 1;
-        if self.since_orthonormalized >= ORTHONORMALIZE_PERIOD {
-            self.since_orthonormalized = 0;
+    /// The pose stage of an island's extra substep (`pipeline/island_substeps.rs`): the awake
+    /// dynamic bodies alone (the island's, by their `awake` flags); the kinematic bodies took
+    /// the step's substeps already.
+    pub(crate) fn integrate_island_positions(&mut self, b: &mut BodySet, h: f64) {
+        self.positions(b, h, false);
+    }
+
+    /// The pose stage, the kinematic bodies with it when `step` (the step's own substeps).
+    fn positions(&mut self, b: &mut BodySet, h: f64, step: bool) {
+        self.pose_stage(b, h, step);
+        let since = &mut self.since_orthonormalized[usize::from(!step)];
+        *since += 1;
+        if *since >= ORTHONORMALIZE_PERIOD {
+            *since = 0;
             for i in 0..b.len() {
                 let moving = match b.kind[i] {
                     BodyKind::Dynamic => b.awake[i],
-                    BodyKind::Kinematic => {
-                        kinematic && b.omega[i] != V3::zeros() && !b.is_link_proxy(i)
-                    }
+                    BodyKind::Kinematic => step && b.omega[i] != V3::zeros() && !b.is_link_proxy(i),
                     BodyKind::Fixed => false,
                 };
                 if moving {

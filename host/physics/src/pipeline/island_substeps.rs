@@ -16,9 +16,10 @@
 //! column's height above it: the lean of the column's top. An island whose largest lean
 //! exceeds [`LEAN_TOLERANCE`] takes contacts `k` times as stiff, `k` the least factor that
 //! brings the lean within the tolerance (the sink falls as `1 / k²`), at most
-//! [`MAX_SUBSTEP_FACTOR`]; the world gives it as many substeps for each of its own as keep
-//! those contacts within the stiffness cap (a quarter of the substep rate): `k` at 1/60 s,
-//! where the step's contacts are at the cap already, none extra at 1 ms. Islands with joints,
+//! [`MAX_SUBSTEP_FACTOR`]; the world gives the islands that stiffen as many substeps for each
+//! of its own as keep the stiffest of them within the stiffness cap (a quarter of the substep
+//! rate): the largest `k` at 1/60 s, where the step's contacts are at the cap already, none
+//! extra at 1 ms. Islands with joints,
 //! tree links or moving kinematic bodies keep the step's contacts and substeps (their other
 //! constraints are solved at that rate), and so do islands with a contact between moving
 //! bodies whose masses differ [`UNEVEN_MASS_RATIO`] times or more: there the extra passes do
@@ -70,8 +71,8 @@ pub(crate) struct IslandSubsteps {
     standing: Vec<u32>,
     /// Bodies whose columns are complete, to be added to the bodies below them.
     order: Vec<u32>,
-    /// Per body: whether it takes the extra substeps this step.
-    pub(crate) fine: Vec<bool>,
+    /// Per body: the stiffness factor its island takes this step (1: the step's own).
+    pub(crate) fine: Vec<usize>,
     /// Per body: the factor its island holds, and for how long (s) its loads have asked for
     /// less.
     held: Vec<(usize, f64)>,
@@ -121,8 +122,13 @@ pub(crate) struct StepLoads<'a> {
 }
 
 impl IslandSubsteps {
-    /// Decides the step's stiffness factor `k` (1: none) and which bodies' contacts take it
-    /// ([`IslandSubsteps::fine`]).
+    /// Lets go of the factors the islands hold (their bodies' indices changed).
+    pub(crate) fn forget_held(&mut self) {
+        self.held.clear();
+    }
+
+    /// Decides each body's stiffness factor ([`IslandSubsteps::fine`]) and returns the largest
+    /// (1: none this step).
     pub(crate) fn plan(
         &mut self,
         bodies: &BodySet,
@@ -131,7 +137,7 @@ impl IslandSubsteps {
     ) -> usize {
         let n = bodies.len();
         self.fine.clear();
-        self.fine.resize(n, false);
+        self.fine.resize(n, 1);
         self.held.resize(n, (1, 0.0));
         let holding = self.held.iter().any(|&(k, _)| k > 1);
         let moving = |i: usize| bodies.kind[i] == BodyKind::Dynamic && bodies.awake[i];
@@ -312,10 +318,8 @@ impl IslandSubsteps {
         for i in 0..n {
             if moving(i) {
                 let k = island_factor[self.sets.find(i)];
-                if k > 1 {
-                    self.fine[i] = true;
-                    factor = factor.max(k);
-                }
+                self.fine[i] = k;
+                factor = factor.max(k);
             }
         }
         self.factor = island_factor;

@@ -551,8 +551,8 @@ impl World {
         if self.fine_factor > 1 {
             // The coarse substeps move the other bodies only.
             self.awake_saved.clone_from(&self.bodies.awake);
-            for (awake, &fine) in self.bodies.awake.iter_mut().zip(&self.island_substeps.fine) {
-                *awake &= !fine;
+            for (awake, &k) in self.bodies.awake.iter_mut().zip(&self.island_substeps.fine) {
+                *awake &= k == 1;
             }
         }
         for sub in 0..n_sub {
@@ -800,33 +800,36 @@ impl World {
         if factor <= 1 {
             return;
         }
-        // Contacts `factor` times as stiff, on as many substeps as keep them within the cap
-        // (none more where the step's contacts are far below it, as at 1 ms).
-        let k = factor as f64;
+        // Each island's contacts its own factor times as stiff, on as many substeps as keep
+        // the stiffest within the cap (none more where the step's contacts are far below it,
+        // as at 1 ms).
         let cap = self.settings.contact_hertz_cap / stiffness.substep;
-        let stiffest = stiffness.hertz.max(stiffness.even_hertz) * k;
+        let stiffest = stiffness.hertz.max(stiffness.even_hertz) * factor as f64;
         let substeps = ((stiffest / cap).ceil() as usize).clamp(1, factor);
-        let fine_stiffness = ContactStiffness {
-            hertz: stiffness.hertz * k,
-            even_hertz: stiffness.even_hertz * k,
-            static_hertz: stiffness.static_hertz * k,
-            damping_ratio: stiffness.damping_ratio,
-            substep: stiffness.substep / substeps as f64,
+        let stiffer = |k: usize| {
+            let k = k as f64;
+            ContactStiffness {
+                hertz: stiffness.hertz * k,
+                even_hertz: stiffness.even_hertz * k,
+                static_hertz: stiffness.static_hertz * k,
+                damping_ratio: stiffness.damping_ratio,
+                substep: stiffness.substep / substeps as f64,
+            }
         };
         self.fine_constraint.clear();
         for c in &mut self.constraints {
             let body = if c.ima > 0.0 { c.a } else { c.b };
-            let fine = self.island_substeps.fine[body];
-            if fine {
-                c.stiffen(&fine_stiffness);
+            let k = self.island_substeps.fine[body];
+            if k > 1 {
+                c.stiffen(&stiffer(k));
             }
-            self.fine_constraint.push(fine && substeps > 1);
+            self.fine_constraint.push(k > 1 && substeps > 1);
         }
         self.fine_factor = substeps;
         if substeps > 1 {
             self.counters.fine_substeps = self.settings.substeps.max(1) * substeps;
         }
-        self.counters.fine_bodies = self.island_substeps.fine.iter().filter(|f| **f).count();
+        self.counters.fine_bodies = self.island_substeps.fine.iter().filter(|&&k| k > 1).count();
     }
 
     /// Scales each constraint's carried impulses from the substep they were accumulated over
@@ -855,8 +858,8 @@ impl World {
     /// joints, tree links or moving kinematic bodies out), then every body's `awake` flag
     /// back as it was.
     fn fine_substeps(&mut self, substeps: usize, h: f64, forces: &FreeForces) {
-        for (awake, &fine) in self.bodies.awake.iter_mut().zip(&self.island_substeps.fine) {
-            *awake = fine;
+        for (awake, &k) in self.bodies.awake.iter_mut().zip(&self.island_substeps.fine) {
+            *awake = k > 1;
         }
         let inv_h = 1.0 / h;
         let max_push = self.settings.max_push_velocity;
@@ -865,7 +868,11 @@ impl World {
                 .integrate_velocities(&mut self.bodies, h, forces);
             self.fine_contacts(|c, b| c.warm_start(b), |g, b| g.warm_start(b));
             let rev = sub % 2 == 1;
+            let relax = self.settings.relax_each_substep || sub + 1 == substeps;
             for (use_bias, reverse) in [(true, rev), (false, !rev)] {
+                if !use_bias && !relax {
+                    break;
+                }
                 let pass = SolvePass { use_bias, reverse };
                 self.fine_contacts(
                     |c, b| c.solve(b, inv_h, max_push, pass),
@@ -873,7 +880,7 @@ impl World {
                 );
                 if use_bias {
                     self.integrator
-                        .integrate_positions_of(&mut self.bodies, h, false);
+                        .integrate_island_positions(&mut self.bodies, h);
                 }
             }
         }

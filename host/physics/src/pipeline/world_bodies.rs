@@ -279,6 +279,8 @@ impl World {
             moved(b);
         }
         self.rebuild_excluded_pairs();
+        // The factors islands hold belong to bodies by index: start them afresh.
+        self.island_substeps.forget_held();
         self.guard.recheck_all();
         self.broad_dirty = true;
         true
