@@ -105,13 +105,13 @@ impl Default for Column {
 
 /// What the world tells the plan about the step.
 pub(crate) struct StepLoads<'a> {
-    /// The contacts' stiffness at that substep.
+    /// The contacts' stiffness at the step's substep.
     pub stiffness: &'a ContactStiffness,
     /// Unit vector against gravity.
     pub up: V3,
     /// Gravity's magnitude (m/s²).
     pub gravity: f64,
-    /// The manifolds the constraints came from (for the substep of their impulses).
+    /// The step's manifolds (for the bodies that touch tree links).
     pub manifolds: &'a [Manifold],
     /// Body pairs joined by a joint.
     pub joint_pairs: &'a [(usize, usize)],
