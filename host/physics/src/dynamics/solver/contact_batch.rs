@@ -225,7 +225,7 @@ impl ContactGroup {
             let new = (pl.normal_impulse + imp).max(zero);
             let delta = new - pl.normal_impulse;
             pl.normal_impulse = new;
-            pl.max_normal_impulse = pl.max_normal_impulse.max(delta);
+            pl.max_normal_impulse = pl.max_normal_impulse.max_num(delta);
             let p = n.scale(delta);
             let (ia, ib) = (pl.n.ia.scale(delta), pl.n.ib.scale(delta));
             self.apply(&mut s, &p, &ia, &ib);
@@ -243,8 +243,14 @@ impl ContactGroup {
             let max = self.friction * pl.normal_impulse;
             let len2 = l[0] * l[0] + l[1] * l[1];
             // Where the cone clips, len2 > max² ≥ 0; elsewhere the quotient is not used.
-            let scale = len2.gt(max * max).select(max / len2.sqrt(), one);
-            let l = [l[0] * scale, l[1] * scale];
+            let clips = len2.gt(max * max);
+            // Resting contacts rarely clip: the square root and division only when one does.
+            let l = if clips.any() {
+                let scale = clips.select(max / len2.sqrt(), one);
+                [l[0] * scale, l[1] * scale]
+            } else {
+                l
+            };
             let d = [l[0] - l0[0], l[1] - l0[1]];
             pl.tangent_impulse = l;
             let p = t0.scale(d[0]) + t1.scale(d[1]);

@@ -49,6 +49,14 @@ impl Lanes {
         self.zip(o, |a, b| if a > b { a } else { b })
     }
 
+    /// Lane-wise maximum as `f64::max` takes it (a NaN lane gives the other value). Unlike
+    /// [`Lanes::max`], it never leaves a lane as it was, so updating a field in memory with it
+    /// compiles to a plain store rather than a masked one (slow on some processors).
+    #[inline(always)]
+    pub fn max_num(self, o: Self) -> Self {
+        self.zip(o, f64::max)
+    }
+
     /// Lane-wise minimum.
     #[inline(always)]
     pub fn min(self, o: Self) -> Self {
@@ -73,6 +81,12 @@ impl Lanes {
 }
 
 impl Mask {
+    /// Whether any lane's condition holds.
+    #[inline(always)]
+    pub fn any(self) -> bool {
+        self.0.iter().any(|&m| m)
+    }
+
     /// `a` where the condition holds, `b` elsewhere.
     #[inline(always)]
     pub fn select(self, a: Lanes, b: Lanes) -> Lanes {
@@ -212,6 +226,11 @@ mod tests {
         assert_eq!(a.max(b).0, [1.0, 4.0, 3.5, 0.0]);
         assert_eq!(a.min(b).0, [0.5, -2.0, -1.0, 0.0]);
         assert_eq!(a.gt(b).select(a, -b).0, [1.0, -4.0, 3.5, -0.0]);
+        assert_eq!(a.max_num(b).0, [1.0, 4.0, 3.5, 0.0]);
+        let nan = Lanes([f64::NAN, 1.0, 2.0, 3.0]);
+        assert_eq!(nan.max_num(Lanes::splat(1.5)).0, [1.5, 1.5, 2.0, 3.0]);
+        assert!(a.gt(b).any());
+        assert!(!a.gt(Lanes::splat(10.0)).any());
         let u = LaneV3 {
             x: Lanes::splat(1.0),
             y: Lanes::splat(0.0),
