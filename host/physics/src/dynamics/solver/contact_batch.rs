@@ -242,9 +242,10 @@ impl ContactGroup {
             // Coulomb cone: |λt| ≤ μ λn (a point with no normal impulse gets none).
             let max = self.friction * pl.normal_impulse;
             let len2 = l[0] * l[0] + l[1] * l[1];
-            // Where the cone clips, len2 > max² ≥ 0; elsewhere the quotient is not used.
+            // Where the cone clips, len2 > max² ≥ 0, and only there is the quotient used:
+            // resting contacts rarely clip, so the square root and division run only when a
+            // lane does.
             let clips = len2.gt(max * max);
-            // Resting contacts rarely clip: the square root and division only when one does.
             let l = if clips.any() {
                 let scale = clips.select(max / len2.sqrt(), one);
                 [l[0] * scale, l[1] * scale]
