@@ -1,6 +1,6 @@
 //! Contact points and manifolds.
 
-use super::V3;
+use super::{PairPose, V3};
 
 /// Most points a manifold keeps (a face–face box contact reduces to 4).
 pub const MAX_MANIFOLD_POINTS: usize = 4;
@@ -14,6 +14,10 @@ pub struct ContactPoint {
     pub separation: f64,
     /// Anchor in body A's frame (m), used to match points across steps.
     pub local_a: V3,
+    /// Anchor in body B's frame (m) when the manifold was collided (for a refresh).
+    pub local_b: V3,
+    /// Separation when the manifold was collided (m).
+    pub origin_separation: f64,
     /// Accumulated normal impulse (N·s), carried over for warm starting.
     pub normal_impulse: f64,
     /// Accumulated tangent impulses along the manifold's two tangents (N·s).
@@ -45,6 +49,9 @@ pub struct Manifold {
     /// The substep (s) over which the carried impulses were accumulated (they are per
     /// substep); 0 when none were.
     pub impulse_substep: f64,
+    /// Where B lay in A's frame when the points were collided; `None` for a manifold that is
+    /// always collided again (compounds, round shapes, continuous collision).
+    pub origin: Option<PairPose>,
 }
 
 impl Manifold {
@@ -65,6 +72,7 @@ impl Manifold {
             len: 0,
             rolling_impulse: V3::zeros(),
             impulse_substep: 0.0,
+            origin: None,
         }
     }
 

@@ -6,7 +6,8 @@
 //! * [`Material`] — surface properties (friction, restitution, rolling resistance).
 //! * [`broad_phase`] — a uniform-grid broad phase (half-spaces tested against every body).
 //! * [`narrow_phase`] — pair dispatch and persistent manifolds (warm-start data matched by
-//!   feature position).
+//!   feature position); `manifold_refresh` — a resting pair's manifold moved with its bodies
+//!   instead of collided again.
 //! * [`box_box`] — separating-axis test with face clipping (up to 4 points).
 //! * [`primitives`] — sphere, capsule, cylinder and half-space pairs.
 //! * [`toi`] — the time of impact of a sphere swept along a line (continuous collision).
@@ -19,6 +20,7 @@ pub mod broad_phase;
 mod collision_bodies;
 mod compound;
 pub mod contact;
+mod manifold_refresh;
 mod material;
 pub mod narrow_phase;
 pub mod primitives;
@@ -29,6 +31,7 @@ pub use broad_phase::BroadPhase;
 pub use collision_bodies::CollisionBodies;
 pub use compound::{Compound, CompoundError, CompoundMass, Part, PartDesc};
 pub use contact::{ContactPoint, Manifold, MAX_MANIFOLD_POINTS};
+pub use manifold_refresh::PairPose;
 pub use material::Material;
 pub use narrow_phase::{BodyMotion, NarrowPhase};
 pub use shape::{Aabb, Shape};

@@ -11,6 +11,7 @@
 //! [`Manifold::part_key`] within the body pair.
 
 use super::box_box::{box_box, BoxPose};
+use super::manifold_refresh::{self, Pose};
 use super::primitives as p;
 use super::{Aabb, CollisionBodies, Manifold, Shape, M3, V3};
 
@@ -22,6 +23,8 @@ pub const MATCH_DISTANCE: f64 = 0.05;
 pub struct NarrowCounts {
     /// Pairs given to a contact routine.
     pub pairs_tested: usize,
+    /// Pairs whose last manifold was moved with the bodies instead (`manifold_refresh`).
+    pub refreshed: usize,
     /// Manifolds with at least one point.
     pub manifolds: usize,
     /// Contact points in all manifolds.
@@ -379,6 +382,33 @@ impl NarrowPhase {
             let compound = matches!(bodies.shape[a], Shape::Compound(_))
                 || matches!(bodies.shape[b], Shape::Compound(_));
             if !compound {
+                let (pose_a, pose_b) = (
+                    Pose {
+                        rot: &bodies.rot[a],
+                        pos: &bodies.pos[a],
+                    },
+                    Pose {
+                        rot: &bodies.rot[b],
+                        pos: &bodies.pos[b],
+                    },
+                );
+                let reach = motion
+                    .is_none()
+                    .then(|| {
+                        manifold_refresh::reach(&bodies.shape[a], &bodies.shape[b], speculative)
+                    })
+                    .flatten();
+                if let (Some(reach), [o]) = (reach, old) {
+                    let radius_b = bodies.shape[b].bounding_radius();
+                    if let Some(m) = manifold_refresh::refresh(o, &pose_a, &pose_b, radius_b, reach)
+                    {
+                        counts.refreshed += 1;
+                        counts.manifolds += 1;
+                        counts.contacts += m.len;
+                        self.manifolds.push(m);
+                        continue;
+                    }
+                }
                 let margin = speculative
                     + sweep(a, &bodies.pos[a], bodies.shape[a].bounding_radius())
                     + sweep(b, &bodies.pos[b], bodies.shape[b].bounding_radius());
@@ -394,7 +424,11 @@ impl NarrowPhase {
                     rot: bodies.rot[b],
                     pos: bodies.pos[b],
                 };
-                if let Some(m) = Self::contact(bodies, a, &pa, b, &pb, margin, old, &mut counts) {
+                if let Some(mut m) = Self::contact(bodies, a, &pa, b, &pb, margin, old, &mut counts)
+                {
+                    if reach.is_some() {
+                        manifold_refresh::record(&mut m, &pose_a, &pose_b);
+                    }
                     self.manifolds.push(m);
                 }
                 continue;

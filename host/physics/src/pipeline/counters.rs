@@ -79,6 +79,9 @@ pub struct StepCounters {
     pub broad_phase_pairs: usize,
     /// Pairs given to a narrow-phase routine.
     pub pairs_tested: usize,
+    /// Pairs of resting boxes whose manifold was moved with the bodies instead of collided
+    /// again.
+    pub manifolds_refreshed: usize,
     /// Manifolds with points.
     pub manifolds: usize,
     /// Contact points.

@@ -406,6 +406,7 @@ impl World {
             }
             self.counters.mark(Stage::NarrowPhase);
             self.counters.pairs_tested = nc.pairs_tested;
+            self.counters.manifolds_refreshed = nc.refreshed;
             self.counters.manifolds = nc.manifolds;
             self.counters.contacts = nc.contacts;
             self.counters.unsupported_pairs = nc.unsupported;
