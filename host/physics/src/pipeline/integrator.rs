@@ -38,7 +38,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::algebra::{exp_so3, se3, SE3};
+use super::pose_lanes::{lie_group_euler_body, lie_group_euler_positions};
+use crate::algebra::exp_so3;
 use crate::dynamics::{BodyKind, BodySet};
 use crate::geometry::{M3, V3};
 
@@ -549,33 +550,4 @@ fn implicit_gyroscopic(w0: &V3, i: &V3, h: f64) -> V3 {
         Some(inv) => w0 - inv * res,
         None => *w0,
     }
-}
-
-/// `T ← T · Exp(h V)` with the body twist `V = (Rᵀω, Rᵀv)` for every moving body.
-fn lie_group_euler_positions(b: &mut BodySet, h: f64, kinematic: bool) {
-    for i in 0..b.len() {
-        let moving = match b.kind[i] {
-            BodyKind::Dynamic => b.awake[i],
-            BodyKind::Kinematic => kinematic && !b.is_link_proxy(i),
-            BodyKind::Fixed => false,
-        };
-        if moving {
-            lie_group_euler_body(b, i, h);
-        }
-    }
-}
-
-/// `T ← T · Exp(h V)` for body `i` (paper §4.3): the exact flow of a constant body twist.
-#[inline]
-fn lie_group_euler_body(b: &mut BodySet, i: usize, h: f64) {
-    let (w, v) = (b.omega[i], b.vel[i]);
-    if w == V3::zeros() && v == V3::zeros() {
-        return;
-    }
-    let r = b.rot[i];
-    let t = SE3::new(r, b.pos[i]) * SE3::exp(&se3::new(r.tr_mul(&w) * h, r.tr_mul(&v) * h));
-    b.dp[i] += t.p - b.pos[i];
-    b.dtheta[i] += w * h;
-    b.pos[i] = t.p;
-    b.rot[i] = t.r;
 }

@@ -4,6 +4,7 @@
 //! * [`counters`] — what the last step did (stages run, pairs tested, contacts, iterations).
 //! * `integrator` — the five free-body integrators (semi-implicit Euler with `T ← T·Exp(hV)` by
 //!   default), selectable per scene.
+//! * `pose_lanes` — the default pose stage `T ← T·Exp(hV)`, four bodies at a time.
 //! * `islands` — contact/joint islands and sleeping.
 //! * [`articulated`] — articulated trees stepped by part 1's ABA.
 //! * [`world`] — the world and its step.
@@ -19,6 +20,7 @@ mod handles;
 mod integrator;
 mod inverse_mass;
 mod islands;
+mod pose_lanes;
 mod tree_contacts;
 mod union_find;
 pub mod world;

@@ -10,7 +10,7 @@ use crate::algebra::{add, cross, dot, scale, se3, vee_diff, Mat3, Vec3};
 use crate::Real;
 
 /// θ² below which the series of the Exp coefficients are used (θ < 0.1).
-const SERIES_THETA2: f64 = 1e-2;
+pub(crate) const SERIES_THETA2: f64 = 1e-2;
 
 /// `(A, B, C) = (sin θ/θ, (1 − cos θ)/θ², (θ − sin θ)/θ³)` for `θ² = t2`.
 #[inline]
