@@ -74,16 +74,32 @@ struct BodyLanes {
 #[inline(always)]
 fn gather(v: &[V3], idx: &[usize; WIDTH], lanes: usize) -> LaneV3 {
     let mut r = LaneV3::default();
-    for (l, &i) in idx.iter().enumerate().take(lanes) {
-        r.set(l, v[i].into());
+    // A full group, as most are, takes a loop of constant length, which compiles to
+    // straight-line loads (measured: towers-1120 2 % and pyramid-1240 5 % faster, the same
+    // bits); only the last group of a colour takes the loop over its lanes.
+    if lanes == WIDTH {
+        for (l, &i) in idx.iter().enumerate() {
+            r.set(l, v[i].into());
+        }
+    } else {
+        for (l, &i) in idx.iter().enumerate().take(lanes) {
+            r.set(l, v[i].into());
+        }
     }
     r
 }
 
 #[inline(always)]
 fn scatter(v: &mut [V3], idx: &[usize; WIDTH], lanes: usize, x: &LaneV3) {
-    for (l, &i) in idx.iter().enumerate().take(lanes) {
-        v[i] = x.get(l).into();
+    // As in `gather`.
+    if lanes == WIDTH {
+        for (l, &i) in idx.iter().enumerate() {
+            v[i] = x.get(l).into();
+        }
+    } else {
+        for (l, &i) in idx.iter().enumerate().take(lanes) {
+            v[i] = x.get(l).into();
+        }
     }
 }
 
@@ -196,15 +212,14 @@ impl ContactGroup {
         let n = self.normal;
         let (zero, one) = (Lanes::splat(0.0), Lanes::splat(1.0));
         let inv_h = Lanes::splat(inv_h);
-        let order = |i: usize| {
-            if pass.reverse {
-                MAX_MANIFOLD_POINTS - 1 - i
-            } else {
-                i
-            }
-        };
-        for i in 0..MAX_MANIFOLD_POINTS {
-            let pl = &mut self.points[order(i)];
+        // The points' order, taken once per pass rather than per point (measured: towers-1120
+        // 3–4 % and pyramid-1240 2 % faster, the same bits).
+        let mut order: [usize; MAX_MANIFOLD_POINTS] = std::array::from_fn(|i| i);
+        if pass.reverse {
+            order.reverse();
+        }
+        for &k in &order {
+            let pl = &mut self.points[k];
             let d = d_lin + dtb.cross(&pl.rb) - dta.cross(&pl.ra);
             let sep = n.dot(&d) + pl.separation;
             let ahead = sep.gt(zero);
@@ -231,8 +246,8 @@ impl ContactGroup {
             self.apply(&mut s, &p, &ia, &ib);
         }
         let [t0, t1] = self.tangents;
-        for i in 0..MAX_MANIFOLD_POINTS {
-            let pl = &mut self.points[order(i)];
+        for &k in &order {
+            let pl = &mut self.points[k];
             let l0 = pl.tangent_impulse;
             let dv = s.vb + s.wb.cross(&pl.rb) - s.va - s.wa.cross(&pl.ra);
             let l = [
