@@ -25,7 +25,7 @@ mod wrench;
 
 pub use ainertia::AInertia;
 pub use inertia::Inertia;
-pub(crate) use se3_group::SERIES_THETA2;
+pub(crate) use se3_group::{exp_series, exp_translation, rotation_rows, SERIES_THETA2};
 pub use se3_group::{exp_so3, log_so3, SE3};
 pub use sym3::Sym3;
 pub use twist::se3;

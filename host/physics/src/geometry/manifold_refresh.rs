@@ -21,6 +21,7 @@
 //! 0.7 mm at a tenth of a millimetre (`vphys bench pyramid-1240 --steps 300 --sleeping
 //! false`).
 
+use super::narrow_phase::PosedPart;
 use super::{Manifold, Shape, M3, V3};
 
 /// Largest motion (m) of any point of B relative to A for which a manifold is refreshed.
@@ -35,12 +36,6 @@ pub struct PairPose {
     pub pos: V3,
     /// The normal in A's frame (unit).
     pub normal: V3,
-}
-
-/// A body's pose: world from body rotation and centre (m, world).
-pub(crate) struct Pose<'a> {
-    pub rot: &'a M3,
-    pub pos: &'a V3,
 }
 
 /// The largest motion (m) a refresh may cover for the pair of shapes `a`, `b` and
@@ -64,9 +59,9 @@ pub(crate) fn reach(a: &Shape, b: &Shape, speculative: f64) -> Option<f64> {
 }
 
 /// Records on a freshly collided manifold the pair's pose and each point's anchors.
-pub(crate) fn record(m: &mut Manifold, a: &Pose<'_>, b: &Pose<'_>) {
+pub(crate) fn record(m: &mut Manifold, a: &PosedPart<'_>, b: &PosedPart<'_>) {
     m.origin = Some(PairPose {
-        rot: a.rot.tr_mul(b.rot),
+        rot: a.rot.tr_mul(&b.rot),
         pos: a.rot.tr_mul(&(b.pos - a.pos)),
         normal: a.rot.tr_mul(&m.normal),
     });
@@ -80,13 +75,13 @@ pub(crate) fn record(m: &mut Manifold, a: &Pose<'_>, b: &Pose<'_>) {
 /// `old` was collided at; `None` when it must be collided again.
 pub(crate) fn refresh(
     old: &Manifold,
-    a: &Pose<'_>,
-    b: &Pose<'_>,
-    radius_b: f64,
+    a: &PosedPart<'_>,
+    b: &PosedPart<'_>,
     reach: f64,
 ) -> Option<Manifold> {
     let origin = old.origin?;
-    let rot = a.rot.tr_mul(b.rot);
+    let radius_b = b.shape.bounding_radius();
+    let rot = a.rot.tr_mul(&b.rot);
     let pos = a.rot.tr_mul(&(b.pos - a.pos));
     let motion = (rot - origin.rot).norm() * radius_b + (pos - origin.pos).norm();
     if motion.is_nan() || motion > reach {
@@ -145,13 +140,14 @@ mod tests {
         for c in m.points[..m.len].iter_mut() {
             c.local_a = ra.tr_mul(&(c.point - pa));
         }
-        let (a, b0) = (
-            Pose { rot: &ra, pos: &pa },
-            Pose {
-                rot: &rb0,
-                pos: &pb0,
-            },
-        );
+        let shape = cube();
+        let posed = |rot: M3, pos: V3| PosedPart {
+            index: 0,
+            shape: &shape,
+            rot,
+            pos,
+        };
+        let (a, b0) = (posed(ra, pa), posed(rb0, pb0));
         record(&mut m, &a, &b0);
         let reach = reach(&cube(), &cube(), 0.02).unwrap();
         assert_eq!(reach, MAX_RELATIVE_MOTION);
@@ -159,8 +155,8 @@ mod tests {
         let turn = 2e-5;
         let rb: M3 = Rotation3::from_axis_angle(&Vector3::z_axis(), turn).into_inner();
         let pb = pb0 + V3::new(2e-5, 1e-5, -3e-5);
-        let b = Pose { rot: &rb, pos: &pb };
-        let refreshed = refresh(&m, &a, &b, radius, reach).expect("within reach");
+        let b = posed(rb, pb);
+        let refreshed = refresh(&m, &a, &b, reach).expect("within reach");
         let mut fresh = Manifold::new(0, 1);
         assert!(collide(&ra, &pa, &rb, &pb, &mut fresh));
         let bound = (rb - rb0).norm() * radius + (pb - pb0).norm();
@@ -179,21 +175,11 @@ mod tests {
         }
         assert!((refreshed.normal - fresh.normal).norm() <= bound);
         let far = pb0 + V3::new(2.0 * MAX_RELATIVE_MOTION, 0.0, 0.0);
-        assert!(refresh(
-            &m,
-            &a,
-            &Pose {
-                rot: &rb0,
-                pos: &far
-            },
-            radius,
-            reach
-        )
-        .is_none());
+        assert!(refresh(&m, &a, &posed(rb0, far), reach).is_none());
         // A manifold that was never recorded is always collided again.
         let mut unrecorded = m;
         unrecorded.origin = None;
-        assert!(refresh(&unrecorded, &a, &b, radius, reach).is_none());
+        assert!(refresh(&unrecorded, &a, &b, reach).is_none());
     }
 
     #[test]

@@ -11,7 +11,7 @@
 //! [`Manifold::part_key`] within the body pair.
 
 use super::box_box::{box_box, BoxPose};
-use super::manifold_refresh::{self, Pose};
+use super::manifold_refresh;
 use super::primitives as p;
 use super::{Aabb, CollisionBodies, Manifold, Shape, M3, V3};
 
@@ -299,11 +299,13 @@ pub fn collide(
 }
 
 /// One primitive of a body, posed in the world.
-struct PosedPart<'a> {
-    index: u16,
-    shape: &'a Shape,
-    rot: M3,
-    pos: V3,
+pub(super) struct PosedPart<'a> {
+    pub(super) index: u16,
+    pub(super) shape: &'a Shape,
+    /// World from part rotation.
+    pub(super) rot: M3,
+    /// Centre (m, world).
+    pub(super) pos: V3,
 }
 
 /// Part `index` of a shape: a compound's part, or the shape itself.
@@ -382,36 +384,6 @@ impl NarrowPhase {
             let compound = matches!(bodies.shape[a], Shape::Compound(_))
                 || matches!(bodies.shape[b], Shape::Compound(_));
             if !compound {
-                let (pose_a, pose_b) = (
-                    Pose {
-                        rot: &bodies.rot[a],
-                        pos: &bodies.pos[a],
-                    },
-                    Pose {
-                        rot: &bodies.rot[b],
-                        pos: &bodies.pos[b],
-                    },
-                );
-                let reach = motion
-                    .is_none()
-                    .then(|| {
-                        manifold_refresh::reach(&bodies.shape[a], &bodies.shape[b], speculative)
-                    })
-                    .flatten();
-                if let (Some(reach), [o]) = (reach, old) {
-                    let radius_b = bodies.shape[b].bounding_radius();
-                    if let Some(m) = manifold_refresh::refresh(o, &pose_a, &pose_b, radius_b, reach)
-                    {
-                        counts.refreshed += 1;
-                        counts.manifolds += 1;
-                        counts.contacts += m.len;
-                        self.manifolds.push(m);
-                        continue;
-                    }
-                }
-                let margin = speculative
-                    + sweep(a, &bodies.pos[a], bodies.shape[a].bounding_radius())
-                    + sweep(b, &bodies.pos[b], bodies.shape[b].bounding_radius());
                 let pa = PosedPart {
                     index: 0,
                     shape: &bodies.shape[a],
@@ -424,10 +396,28 @@ impl NarrowPhase {
                     rot: bodies.rot[b],
                     pos: bodies.pos[b],
                 };
+                let reach = motion
+                    .is_none()
+                    .then(|| {
+                        manifold_refresh::reach(&bodies.shape[a], &bodies.shape[b], speculative)
+                    })
+                    .flatten();
+                if let (Some(reach), [o]) = (reach, old) {
+                    if let Some(m) = manifold_refresh::refresh(o, &pa, &pb, reach) {
+                        counts.refreshed += 1;
+                        counts.manifolds += 1;
+                        counts.contacts += m.len;
+                        self.manifolds.push(m);
+                        continue;
+                    }
+                }
+                let margin = speculative
+                    + sweep(a, &bodies.pos[a], bodies.shape[a].bounding_radius())
+                    + sweep(b, &bodies.pos[b], bodies.shape[b].bounding_radius());
                 if let Some(mut m) = Self::contact(bodies, a, &pa, b, &pb, margin, old, &mut counts)
                 {
                     if reach.is_some() {
-                        manifold_refresh::record(&mut m, &pose_a, &pose_b);
+                        manifold_refresh::record(&mut m, &pa, &pb);
                     }
                     self.manifolds.push(m);
                 }

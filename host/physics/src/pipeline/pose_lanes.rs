@@ -3,12 +3,13 @@
 //!
 //! Each lane computes bit for bit what [`lie_group_euler_body`] computes for its body: the
 //! same operations in the same order (`Rᵀx` and `R x` as dot products summed left to right,
-//! the Exp coefficients by their series, no fused multiply–add). A body that turns by 0.1 rad
+//! and `SE3::exp`'s own kernels for the coefficients' series, the rotation and the translation,
+//! generic over the arithmetic; no fused multiply–add). A body that turns by 0.1 rad
 //! or more in the substep, whose coefficients need a sine and a cosine, and the last bodies
 //! that do not fill four lanes take the scalar step. On x86-64 the same code also runs
 //! compiled for AVX2 when the processor has it.
 
-use crate::algebra::{se3, SE3, SERIES_THETA2};
+use crate::algebra::{exp_series, exp_translation, rotation_rows, se3, SE3, SERIES_THETA2};
 use crate::dynamics::solver::lanes::{Lanes, WIDTH};
 use crate::dynamics::{BodyKind, BodySet};
 use crate::geometry::V3;
@@ -102,15 +103,6 @@ fn dot(a: [Lanes; 3], b: &LaneVec) -> Lanes {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-#[inline(always)]
-fn cross(a: &LaneVec, b: &LaneVec) -> LaneVec {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
 /// The step of four distinct moving bodies; a lane whose turn needs the closed form
 /// coefficients is left to the scalar step.
 #[inline(always)]
@@ -137,25 +129,12 @@ fn four_bodies(b: &mut BodySet, bodies: &[usize; WIDTH], h: f64) {
         wb[k] = dot(column, &w) * hl;
         vb[k] = dot(column, &v) * hl;
     }
-    // Exp (`SE3::exp`): the coefficients' series, the rotation, the translation.
+    // Exp (`SE3::exp`, with its own kernels): the coefficients' series, the rotation, the
+    // translation.
     let t2 = dot(wb, &wb);
-    let a = c(1.0) - t2 * (c(1.0 / 6.0) - t2 * (c(1.0 / 120.0) - t2 * c(1.0 / 5040.0)));
-    let bb = c(0.5) - t2 * (c(1.0 / 24.0) - t2 * (c(1.0 / 720.0) - t2 * c(1.0 / 40320.0)));
-    let cc = c(1.0 / 6.0) - t2 * (c(1.0 / 120.0) - t2 * (c(1.0 / 5040.0) - t2 * c(1.0 / 362880.0)));
-    let d = c(1.0) - bb * t2;
-    let (ax, ay, az) = (a * wb[0], a * wb[1], a * wb[2]);
-    let (bxy, bxz, byz) = (bb * wb[0] * wb[1], bb * wb[0] * wb[2], bb * wb[1] * wb[2]);
-    let e: LaneMat = [
-        [d + bb * wb[0] * wb[0], bxy - az, bxz + ay],
-        [bxy + az, d + bb * wb[1] * wb[1], byz - ax],
-        [bxz - ay, byz + ax, d + bb * wb[2] * wb[2]],
-    ];
-    let wv = cross(&wb, &vb);
-    let wwv = cross(&wb, &wv);
-    let mut pe = [c(0.0); 3];
-    for k in 0..3 {
-        pe[k] = vb[k] + bb * wv[k] + cc * wwv[k];
-    }
+    let (a, bb, cc) = exp_series(t2, c);
+    let e: LaneMat = rotation_rows(wb, t2, a, bb, c(1.0));
+    let pe = exp_translation(wb, vb, bb, cc);
     // `T · Exp`: rotation `R E`, position `R pe + p`.
     let mut rn: LaneMat = [[c(0.0); 3]; 3];
     let mut pn = [c(0.0); 3];

@@ -6,23 +6,77 @@
 //! rotation axis of `Log` comes from the symmetric part of `R` instead of its skew part.
 
 use super::SE3;
+use std::ops::{Add, Mul, Sub};
+
 use crate::algebra::{add, cross, dot, scale, se3, vee_diff, Mat3, Vec3};
 use crate::Real;
 
 /// θ² below which the series of the Exp coefficients are used (θ < 0.1).
 pub(crate) const SERIES_THETA2: f64 = 1e-2;
 
+/// The arithmetic of the Exp kernels below: `f64` (and the other [`Real`] types), and the
+/// solver's four-lane values (`pipeline/pose_lanes.rs` moves four bodies at a time with the
+/// same kernels, so each lane computes the scalar step's bits).
+pub(crate) trait ExpArithmetic:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self>
+{
+}
+
+impl<T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T>> ExpArithmetic for T {}
+
+/// `(A, B, C) = (sin θ/θ, (1 − cos θ)/θ², (θ − sin θ)/θ³)` for `θ² = t2 <`
+/// [`SERIES_THETA2`], by their alternating series (the first omitted terms are below 1e-19
+/// for θ < 0.1); `c` makes a constant.
+#[inline(always)]
+pub(crate) fn exp_series<T: ExpArithmetic>(t2: T, c: impl Fn(f64) -> T) -> (T, T, T) {
+    let a = c(1.0) - t2 * (c(1.0 / 6.0) - t2 * (c(1.0 / 120.0) - t2 * c(1.0 / 5040.0)));
+    let b = c(0.5) - t2 * (c(1.0 / 24.0) - t2 * (c(1.0 / 720.0) - t2 * c(1.0 / 40320.0)));
+    let cc = c(1.0 / 6.0) - t2 * (c(1.0 / 120.0) - t2 * (c(1.0 / 5040.0) - t2 * c(1.0 / 362880.0)));
+    (a, b, cc)
+}
+
+/// The rows of `exp([w]) = I + A [w] + B [w]²` (with `[w]² = w wᵀ − θ² I`, `θ² = t2`).
+#[inline(always)]
+pub(crate) fn rotation_rows<T: ExpArithmetic>(w: [T; 3], t2: T, a: T, b: T, one: T) -> [[T; 3]; 3] {
+    let d = one - b * t2; // cos θ
+    let (ax, ay, az) = (a * w[0], a * w[1], a * w[2]);
+    let (bxy, bxz, byz) = (b * w[0] * w[1], b * w[0] * w[2], b * w[1] * w[2]);
+    [
+        [d + b * w[0] * w[0], bxy - az, bxz + ay],
+        [bxy + az, d + b * w[1] * w[1], byz - ax],
+        [bxz - ay, byz + ax, d + b * w[2] * w[2]],
+    ]
+}
+
+/// The translation of `Exp(w, v)`: `(I + B [w] + C [w]²) v`.
+#[inline(always)]
+pub(crate) fn exp_translation<T: ExpArithmetic>(w: [T; 3], v: [T; 3], b: T, cc: T) -> [T; 3] {
+    let wv = cross_of(w, v);
+    let wwv = cross_of(w, wv);
+    // Written out: `array::map` and its closure are not inlined into the four-lane AVX2 copy.
+    [
+        v[0] + b * wv[0] + cc * wwv[0],
+        v[1] + b * wv[1] + cc * wwv[1],
+        v[2] + b * wv[2] + cc * wwv[2],
+    ]
+}
+
+/// `a × x` — 6×, 3+ (as the kernels' `cross`, on arrays).
+#[inline(always)]
+fn cross_of<T: ExpArithmetic>(a: [T; 3], x: [T; 3]) -> [T; 3] {
+    [
+        a[1] * x[2] - a[2] * x[1],
+        a[2] * x[0] - a[0] * x[2],
+        a[0] * x[1] - a[1] * x[0],
+    ]
+}
+
 /// `(A, B, C) = (sin θ/θ, (1 − cos θ)/θ², (θ − sin θ)/θ³)` for `θ² = t2`.
 #[inline]
 fn exp_coefficients<T: Real>(t2: T) -> (T, T, T) {
     let c = |x: f64| T::from_f64(x);
     if t2 < c(SERIES_THETA2) {
-        // Alternating series; the first omitted terms are below 1e-19 for θ < 0.1.
-        let a = c(1.0) - t2 * (c(1.0 / 6.0) - t2 * (c(1.0 / 120.0) - t2 * c(1.0 / 5040.0)));
-        let b = c(0.5) - t2 * (c(1.0 / 24.0) - t2 * (c(1.0 / 720.0) - t2 * c(1.0 / 40320.0)));
-        let cc =
-            c(1.0 / 6.0) - t2 * (c(1.0 / 120.0) - t2 * (c(1.0 / 5040.0) - t2 * c(1.0 / 362880.0)));
-        (a, b, cc)
+        exp_series(t2, c)
     } else {
         // One sin/cos pair of θ/2 gives all three without cancellation:
         // sin θ = 2 s c, 1 − cos θ = 2 s².
@@ -39,19 +93,9 @@ fn exp_coefficients<T: Real>(t2: T) -> (T, T, T) {
 /// `R = exp([w]) = I + A [w] + B [w]²` with `[w]² = w wᵀ − θ² I`.
 #[inline]
 fn rotation_from_coefficients<T: Real>(w: &Vec3<T>, t2: T, a: T, b: T) -> Mat3<T> {
-    let d = T::one() - b * t2; // cos θ
-    let (ax, ay, az) = (a * w.x, a * w.y, a * w.z);
-    let (bxy, bxz, byz) = (b * w.x * w.y, b * w.x * w.z, b * w.y * w.z);
+    let [r0, r1, r2] = rotation_rows([w.x, w.y, w.z], t2, a, b, T::one());
     Mat3::new(
-        d + b * w.x * w.x,
-        bxy - az,
-        bxz + ay,
-        bxy + az,
-        d + b * w.y * w.y,
-        byz - ax,
-        bxz - ay,
-        byz + ax,
-        d + b * w.z * w.z,
+        r0[0], r0[1], r0[2], r1[0], r1[1], r1[2], r2[0], r2[1], r2[2],
     )
 }
 
@@ -136,10 +180,8 @@ impl<T: Real> SE3<T> {
         let t2 = dot(w, w);
         let (a, b, cc) = exp_coefficients(t2);
         let r = rotation_from_coefficients(w, t2, a, b);
-        let wv = cross(w, &xi.v);
-        let wwv = cross(w, &wv);
-        let p = add(&add(&xi.v, &scale(b, &wv)), &scale(cc, &wwv));
-        Self::new(r, p)
+        let [x, y, z] = exp_translation([w.x, w.y, w.z], [xi.v.x, xi.v.y, xi.v.z], b, cc);
+        Self::new(r, Vec3::new(x, y, z))
     }
 
     /// `Log(T)`: the twist `ξ = (w, v)` with `|w| ∈ [0, π]` and `Exp(ξ) = T`.

@@ -5,7 +5,7 @@ mod construction;
 mod exp_log;
 mod ops;
 
-pub(crate) use exp_log::SERIES_THETA2;
+pub(crate) use exp_log::{exp_series, exp_translation, rotation_rows, SERIES_THETA2};
 pub use exp_log::{exp_so3, log_so3};
 
 use super::{Mat3, Vec3};
