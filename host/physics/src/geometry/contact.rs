@@ -20,7 +20,9 @@ pub struct ContactPoint {
     pub origin_separation: f64,
     /// Accumulated normal impulse (N·s), carried over for warm starting.
     pub normal_impulse: f64,
-    /// Accumulated tangent impulses along the manifold's two tangents (N·s).
+    /// Accumulated tangent impulses along the manifold's two tangents (N·s), for a contact
+    /// solved point by point (an articulated link's); a free body's contact carries its
+    /// friction for the whole manifold ([`Manifold::friction_impulse`]).
     pub tangent_impulse: [f64; 2],
     /// Largest normal impulse applied in the last step (N·s): the contact's "hit" strength.
     pub max_normal_impulse: f64,
@@ -44,6 +46,11 @@ pub struct Manifold {
     pub points: [ContactPoint; MAX_MANIFOLD_POINTS],
     /// Number of valid points.
     pub len: usize,
+    /// Accumulated friction impulse at the points' centroid along the manifold's two
+    /// tangents (N·s), warm started (patch friction).
+    pub friction_impulse: [f64; 2],
+    /// Accumulated torsional friction impulse about the normal (N·m·s), warm started.
+    pub twist_impulse: f64,
     /// Accumulated rolling-resistance angular impulse (N·m·s, world), warm started.
     pub rolling_impulse: V3,
     /// The substep (s) over which the carried impulses were accumulated (they are per
@@ -70,6 +77,8 @@ impl Manifold {
             normal: V3::z(),
             points: [ContactPoint::default(); MAX_MANIFOLD_POINTS],
             len: 0,
+            friction_impulse: [0.0; 2],
+            twist_impulse: 0.0,
             rolling_impulse: V3::zeros(),
             impulse_substep: 0.0,
             origin: None,

@@ -505,6 +505,10 @@ impl NarrowPhase {
                 }
             }
         }
+        if let (Some(o), true) = (old, normal_kept) {
+            m.friction_impulse = o.friction_impulse;
+            m.twist_impulse = o.twist_impulse;
+        }
         if normal_kept {
             m.rolling_impulse = old.map_or(V3::zeros(), |o| o.rolling_impulse);
             m.impulse_substep = old.map_or(0.0, |o| o.impulse_substep);

@@ -297,6 +297,8 @@ fn rewrite(
         pa.normal_impulse = old.normal_impulse;
         pa.tangent_impulse = old.tangent_impulse;
     } else {
+        m.friction_impulse = [0.0; 2];
+        m.twist_impulse = 0.0;
         m.rolling_impulse = V3::zeros();
     }
 }

@@ -4,8 +4,8 @@
 //! neither of its moving bodies is used yet, so the constraints of one colour share no moving
 //! body and can be solved side by side — four per [`ContactGroup`], one per [`Lanes`] lane —
 //! without changing what Gauss–Seidel computes: the colours run one after the other, and within
-//! a colour the order does not matter. The rows, the soft step and the friction cone are those
-//! of [`ContactConstraint::solve`], lane by lane.
+//! a colour the order does not matter. The rows, the soft step and the friction patch are
+//! those of [`ContactConstraint::solve`], lane by lane.
 //!
 //! Constraints with rolling resistance or anchors that follow a round part's turn
 //! (`ContactConstraint::follows`), and those no colour can take, stay scalar: the caller
@@ -14,7 +14,7 @@
 //! On x86-64 the same code also runs compiled for AVX2 when the processor has it (detected
 //! once); both copies compute the same bits (no fused multiply–add is ever formed).
 
-use super::contact_constraint::{PointConstraint, LINEAR_SLOP};
+use super::contact_constraint::{PatchFriction, PointConstraint, LINEAR_SLOP};
 use super::lanes::{LaneV3, Lanes, WIDTH};
 use super::{ContactConstraint, Softness, SolvePass};
 use crate::dynamics::BodySet;
@@ -37,11 +37,21 @@ struct PointLanes {
     ra: LaneV3,
     rb: LaneV3,
     n: RowLanes,
-    t: [RowLanes; 2],
     separation: Lanes,
     normal_impulse: Lanes,
-    tangent_impulse: [Lanes; 2],
     max_normal_impulse: Lanes,
+}
+
+/// The friction patches of four constraints.
+#[derive(Clone, Copy, Debug, Default)]
+struct PatchLanes {
+    ra: LaneV3,
+    rb: LaneV3,
+    t: [RowLanes; 2],
+    twist: RowLanes,
+    arm: Lanes,
+    tangent_impulse: [Lanes; 2],
+    twist_impulse: Lanes,
 }
 
 /// Four constraints of one colour (fewer in the last group of a colour: `lanes`).
@@ -61,6 +71,7 @@ struct ContactGroup {
     mass_scale: Lanes,
     impulse_scale: Lanes,
     points: [PointLanes; MAX_MANIFOLD_POINTS],
+    patch: PatchLanes,
 }
 
 /// The velocity state of the two bodies of every lane.
@@ -113,15 +124,34 @@ impl PointLanes {
         self.n.ia.set(l, pc.n.ia.into());
         self.n.ib.set(l, pc.n.ib.into());
         self.n.mass.0[l] = pc.n.mass;
-        for k in 0..2 {
-            self.t[k].ia.set(l, pc.t[k].ia.into());
-            self.t[k].ib.set(l, pc.t[k].ib.into());
-            self.t[k].mass.0[l] = pc.t[k].mass;
-            self.tangent_impulse[k].0[l] = pc.tangent_impulse[k];
-        }
         self.separation.0[l] = pc.separation;
         self.normal_impulse.0[l] = pc.normal_impulse;
         self.max_normal_impulse.0[l] = pc.max_normal_impulse;
+    }
+}
+
+impl RowLanes {
+    fn set_lane(&mut self, l: usize, r: &super::contact_constraint::Row) {
+        self.ia.set(l, r.ia.into());
+        self.ib.set(l, r.ib.into());
+        self.mass.0[l] = r.mass;
+    }
+}
+
+impl PatchLanes {
+    /// Lane `l` from a patch, or zeros (rows that change nothing) for `None`.
+    fn set_lane(&mut self, l: usize, f: Option<&PatchFriction>) {
+        let zero = PatchFriction::default();
+        let f = f.unwrap_or(&zero);
+        self.ra.set(l, f.ra.into());
+        self.rb.set(l, f.rb.into());
+        for k in 0..2 {
+            self.t[k].set_lane(l, &f.t[k]);
+            self.tangent_impulse[k].0[l] = f.tangent_impulse[k];
+        }
+        self.twist.set_lane(l, &f.twist);
+        self.arm.0[l] = f.arm;
+        self.twist_impulse.0[l] = f.twist_impulse;
     }
 }
 
@@ -153,6 +183,7 @@ impl ContactGroup {
             for (k, pl) in self.points.iter_mut().enumerate() {
                 pl.set_lane(l, points.get(k));
             }
+            self.patch.set_lane(l, c.map(|c| &c.patch));
         }
     }
 
@@ -188,17 +219,18 @@ impl ContactGroup {
     fn warm_start(&self, bodies: &mut BodySet) {
         let mut s = self.load(bodies);
         for pl in &self.points {
-            let p = self.normal.scale(pl.normal_impulse)
-                + self.tangents[0].scale(pl.tangent_impulse[0])
-                + self.tangents[1].scale(pl.tangent_impulse[1]);
-            let ia = pl.n.ia.scale(pl.normal_impulse)
-                + pl.t[0].ia.scale(pl.tangent_impulse[0])
-                + pl.t[1].ia.scale(pl.tangent_impulse[1]);
-            let ib = pl.n.ib.scale(pl.normal_impulse)
-                + pl.t[0].ib.scale(pl.tangent_impulse[0])
-                + pl.t[1].ib.scale(pl.tangent_impulse[1]);
+            let p = self.normal.scale(pl.normal_impulse);
+            let ia = pl.n.ia.scale(pl.normal_impulse);
+            let ib = pl.n.ib.scale(pl.normal_impulse);
             self.apply(&mut s, &p, &ia, &ib);
         }
+        let f = &self.patch;
+        let [l0, l1] = f.tangent_impulse;
+        let tw = f.twist_impulse;
+        let p = self.tangents[0].scale(l0) + self.tangents[1].scale(l1);
+        let ia = f.t[0].ia.scale(l0) + f.t[1].ia.scale(l1) + f.twist.ia.scale(tw);
+        let ib = f.t[0].ib.scale(l0) + f.t[1].ib.scale(l1) + f.twist.ib.scale(tw);
+        self.apply(&mut s, &p, &ia, &ib);
         self.store(bodies, &s);
     }
 
@@ -218,6 +250,7 @@ impl ContactGroup {
         if pass.reverse {
             order.reverse();
         }
+        let mut total = zero;
         for &k in &order {
             let pl = &mut self.points[k];
             let d = d_lin + dtb.cross(&pl.rb) - dta.cross(&pl.ra);
@@ -241,21 +274,22 @@ impl ContactGroup {
             let delta = new - pl.normal_impulse;
             pl.normal_impulse = new;
             pl.max_normal_impulse = pl.max_normal_impulse.max_num(delta);
+            total = total + new;
             let p = n.scale(delta);
             let (ia, ib) = (pl.n.ia.scale(delta), pl.n.ib.scale(delta));
             self.apply(&mut s, &p, &ia, &ib);
         }
         let [t0, t1] = self.tangents;
-        for &k in &order {
-            let pl = &mut self.points[k];
-            let l0 = pl.tangent_impulse;
-            let dv = s.vb + s.wb.cross(&pl.rb) - s.va - s.wa.cross(&pl.ra);
+        {
+            let f = &mut self.patch;
+            let l0 = f.tangent_impulse;
+            let dv = s.vb + s.wb.cross(&f.rb) - s.va - s.wa.cross(&f.ra);
             let l = [
-                l0[0] - pl.t[0].mass * t0.dot(&dv),
-                l0[1] - pl.t[1].mass * t1.dot(&dv),
+                l0[0] - f.t[0].mass * t0.dot(&dv),
+                l0[1] - f.t[1].mass * t1.dot(&dv),
             ];
-            // Coulomb cone: |λt| ≤ μ λn (a point with no normal impulse gets none).
-            let max = self.friction * pl.normal_impulse;
+            // Coulomb cone: |λt| ≤ μ Σ λn (a patch with no normal impulse gets none).
+            let max = self.friction * total;
             let len2 = l[0] * l[0] + l[1] * l[1];
             // Where the cone clips, len2 > max² ≥ 0, and only there is the quotient used:
             // resting contacts rarely clip, so the square root and division run only when a
@@ -268,11 +302,24 @@ impl ContactGroup {
                 l
             };
             let d = [l[0] - l0[0], l[1] - l0[1]];
-            pl.tangent_impulse = l;
+            f.tangent_impulse = l;
             let p = t0.scale(d[0]) + t1.scale(d[1]);
-            let ia = pl.t[0].ia.scale(d[0]) + pl.t[1].ia.scale(d[1]);
-            let ib = pl.t[0].ib.scale(d[0]) + pl.t[1].ib.scale(d[1]);
-            self.apply(&mut s, &p, &ia, &ib);
+            let ia = f.t[0].ia.scale(d[0]) + f.t[1].ia.scale(d[1]);
+            let ib = f.t[0].ib.scale(d[0]) + f.t[1].ib.scale(d[1]);
+            s.va -= p.scale(self.ima);
+            s.wa -= ia;
+            s.vb += p.scale(self.imb);
+            s.wb += ib;
+            // Torsion about the normal: |λ| ≤ μ ρ Σ λn.
+            let tw0 = f.twist_impulse;
+            let max = self.friction * f.arm * total;
+            let tw = (tw0 - f.twist.mass * n.dot(&(s.wb - s.wa)))
+                .max(-max)
+                .min(max);
+            let d = tw - tw0;
+            f.twist_impulse = tw;
+            s.wa -= f.twist.ia.scale(d);
+            s.wb += f.twist.ib.scale(d);
         }
         self.store(bodies, &s);
     }
@@ -284,9 +331,11 @@ impl ContactGroup {
             let len = c.len;
             for (pc, pl) in c.points[..len].iter_mut().zip(&self.points) {
                 pc.normal_impulse = pl.normal_impulse.0[l];
-                pc.tangent_impulse = [pl.tangent_impulse[0].0[l], pl.tangent_impulse[1].0[l]];
                 pc.max_normal_impulse = pl.max_normal_impulse.0[l];
             }
+            let f = &self.patch;
+            c.patch.tangent_impulse = [f.tangent_impulse[0].0[l], f.tangent_impulse[1].0[l]];
+            c.patch.twist_impulse = f.twist_impulse.0[l];
         }
     }
 }
@@ -507,8 +556,9 @@ mod tests {
         {
             m.push(V3::new(i as f64 + 0.5, y, z), -0.001 * k as f64);
             m.points[k].normal_impulse = 0.01 * k as f64;
-            m.points[k].tangent_impulse = [0.002, -0.001 * k as f64];
         }
+        m.friction_impulse = [0.002, -0.001 * i as f64];
+        m.twist_impulse = 0.0004 * i as f64;
         m
     }
 
@@ -602,9 +652,10 @@ mod tests {
                 for (s, b) in scalar.iter().zip(&batched) {
                     for (ps, pb) in s.points.iter().zip(&b.points) {
                         assert_eq!(ps.normal_impulse, pb.normal_impulse);
-                        assert_eq!(ps.tangent_impulse, pb.tangent_impulse);
                         assert_eq!(ps.max_normal_impulse, pb.max_normal_impulse);
                     }
+                    assert_eq!(s.patch.tangent_impulse, b.patch.tangent_impulse);
+                    assert_eq!(s.patch.twist_impulse, b.patch.twist_impulse);
                 }
                 // The pass did something.
                 assert_ne!(batch_bodies.vel, base.vel);

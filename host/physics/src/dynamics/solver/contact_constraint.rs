@@ -4,6 +4,12 @@
 //! One constraint per manifold, up to 4 points. Everything in world coordinates: anchors
 //! `ra`, `rb` from each centre of mass to the contact (m), normal from A to B. Effective masses
 //! (kg) and the angular responses `I⁻¹ (r × n)` are precomputed in [`ContactConstraint::prepare`].
+//!
+//! Friction is the manifold's, not each point's (patch friction, as PhysX solves it): two
+//! tangent rows at the points' centroid bounded together by `μ Σ λn`, and a torsional row about
+//! the normal bounded by `μ ρ Σ λn`, `ρ` the points' mean distance from the centroid. A face
+//! contact takes three friction rows instead of eight; a one-point contact takes the point's
+//! two rows (its torsional bound is zero).
 
 use super::{ContactStiffness, Softness};
 use crate::dynamics::BodySet;
@@ -89,14 +95,71 @@ pub(super) struct PointConstraint {
     pub(super) ra: V3,
     pub(super) rb: V3,
     pub(super) n: Row,
-    pub(super) t: [Row; 2],
     /// Separation at the start of the step (m).
     pub(super) separation: f64,
     /// Normal relative velocity at the start of the step (m/s), for restitution.
     pub(super) relative_velocity: f64,
     pub(super) normal_impulse: f64,
-    pub(super) tangent_impulse: [f64; 2],
     pub(super) max_normal_impulse: f64,
+}
+
+/// The manifold's friction: two tangent rows at the points' centroid and a torsional row.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct PatchFriction {
+    /// The centroid's anchors (m, world, from each centre of mass).
+    pub(super) ra: V3,
+    pub(super) rb: V3,
+    /// Rows along the two tangents at the centroid.
+    pub(super) t: [Row; 2],
+    /// The torsional row: each body's `I⁻¹ n` and the effective mass `1 / nᵀ(I⁻¹a + I⁻¹b)n`
+    /// (kg·m²).
+    pub(super) twist: Row,
+    /// Mean distance of the points from the centroid (m): the torsional bound is
+    /// `μ × arm × Σ λn`.
+    pub(super) arm: f64,
+    /// Accumulated impulses along the tangents (N·s).
+    pub(super) tangent_impulse: [f64; 2],
+    /// Accumulated torsional impulse about the normal (N·m·s).
+    pub(super) twist_impulse: f64,
+}
+
+impl PatchFriction {
+    /// The patch of the points' anchors `ra`, `rb` (the first `len` of `points`).
+    fn new(
+        points: &[PointConstraint],
+        n: &V3,
+        tangents: &[V3; 2],
+        inv: (f64, f64, &M3, &M3),
+        impulses: ([f64; 2], f64),
+    ) -> Self {
+        let (ima, imb, ia, ib) = inv;
+        let k = points.len() as f64;
+        let ra = points.iter().map(|p| p.ra).sum::<V3>() / k;
+        let rb = points.iter().map(|p| p.rb).sum::<V3>() / k;
+        let arm = if points.len() > 1 {
+            points.iter().map(|p| (p.ra - ra).norm()).sum::<f64>() / k
+        } else {
+            0.0
+        };
+        let (ian, ibn) = (ia * n, ib * n);
+        let kt = n.dot(&ian) + n.dot(&ibn);
+        Self {
+            ra,
+            rb,
+            t: [
+                Row::new(&ra, &rb, &tangents[0], ima, imb, ia, ib),
+                Row::new(&ra, &rb, &tangents[1], ima, imb, ia, ib),
+            ],
+            twist: Row {
+                ia: ian,
+                ib: ibn,
+                mass: if kt > 0.0 && arm > 0.0 { 1.0 / kt } else { 0.0 },
+            },
+            arm,
+            tangent_impulse: impulses.0,
+            twist_impulse: impulses.1,
+        }
+    }
 }
 
 /// The constraint of one manifold.
@@ -127,6 +190,8 @@ pub struct ContactConstraint {
     pub(super) softness: Softness,
     pub(super) len: usize,
     pub(super) points: [PointConstraint; MAX_MANIFOLD_POINTS],
+    /// The manifold's friction rows and impulses.
+    pub(super) patch: PatchFriction,
     /// Radius (m) of A's and B's part where it is round (sphere, capsule) and its centre of
     /// curvature is off the body's centre of mass; 0 otherwise.
     round_radius: [f64; 2],
@@ -146,13 +211,13 @@ pub struct ContactConstraint {
     pub(super) follows: bool,
 }
 
-/// A point's anchors (m, world, from each centre of mass) and rows at the current substep.
+/// A point's anchors (m, world, from each centre of mass) and normal row at the current
+/// substep.
 #[derive(Clone, Copy, Debug, Default)]
 struct PointRows {
     ra: V3,
     rb: V3,
     n: Row,
-    t: [Row; 2],
 }
 
 /// A unit vector orthogonal to `n` and a second completing the right-handed basis.
@@ -248,21 +313,23 @@ impl ContactConstraint {
                 ra,
                 rb,
                 n: Row::new(&ra, &rb, &n, ima, imb, &ia, &ib),
-                t: [
-                    Row::new(&ra, &rb, &tangents[0], ima, imb, &ia, &ib),
-                    Row::new(&ra, &rb, &tangents[1], ima, imb, &ia, &ib),
-                ],
                 separation: cp.separation,
                 relative_velocity: n.dot(&dv),
                 normal_impulse: cp.normal_impulse,
-                tangent_impulse: if settings.friction {
-                    cp.tangent_impulse
-                } else {
-                    [0.0; 2]
-                },
                 max_normal_impulse: 0.0,
             };
         }
+        let patch = PatchFriction::new(
+            &points[..m.len.max(1)],
+            &n,
+            &tangents,
+            (ima, imb, &ia, &ib),
+            if settings.friction {
+                (m.friction_impulse, m.twist_impulse)
+            } else {
+                ([0.0; 2], 0.0)
+            },
+        );
         let rr = if settings.rolling {
             ma.rolling_resistance.max(mb.rolling_resistance)
                 * rolling_radius(bodies.part_shape(a, m.part_a))
@@ -334,6 +401,7 @@ impl ContactConstraint {
             softness: Softness::rigid(0.0),
             len: m.len,
             points,
+            patch,
             round_radius: radius,
             centre,
             follows: radius[0] > 0.0 || radius[1] > 0.0,
@@ -355,9 +423,30 @@ impl ContactConstraint {
                 ra: pc.ra,
                 rb: pc.rb,
                 n: pc.n,
-                t: pc.t,
             };
         }
+        let (ia_now, ib_now) = self.inverse_inertias_now(bodies);
+        self.point_rows_now(k, bodies, &ia_now, &ib_now)
+    }
+
+    /// Each moving body's inverse inertia at its rotation now, `R I⁻¹_body Rᵀ` (zero for a
+    /// body that does not move here).
+    fn inverse_inertias_now(&self, bodies: &BodySet) -> (M3, M3) {
+        let world_inv = |i: usize, im: f64| {
+            if im > 0.0 {
+                let r = bodies.rot[i];
+                r * M3::from_diagonal(&bodies.inv_inertia[i]) * r.transpose()
+            } else {
+                M3::zeros()
+            }
+        };
+        (world_inv(self.a, self.ima), world_inv(self.b, self.imb))
+    }
+
+    /// Point `k`'s anchors and normal row of a constraint that follows its round parts, with
+    /// the inverse inertias now.
+    fn point_rows_now(&self, k: usize, bodies: &BodySet, ia: &M3, ib: &M3) -> PointRows {
+        let pc = &self.points[k];
         let n = self.normal;
         let [rad_a, rad_b] = self.round_radius;
         let ra = if rad_a > 0.0 {
@@ -370,25 +459,32 @@ impl ContactConstraint {
         } else {
             pc.rb
         };
-        let world_inv = |i: usize, im: f64| {
-            if im > 0.0 {
-                let r = bodies.rot[i];
-                r * M3::from_diagonal(&bodies.inv_inertia[i]) * r.transpose()
-            } else {
-                M3::zeros()
-            }
-        };
-        let (ia_now, ib_now) = (world_inv(self.a, self.ima), world_inv(self.b, self.imb));
-        let (ima, imb, ia, ib) = (self.ima, self.imb, &ia_now, &ib_now);
         PointRows {
             ra,
             rb,
-            n: Row::new(&ra, &rb, &n, ima, imb, ia, ib),
-            t: [
-                Row::new(&ra, &rb, &self.tangents[0], ima, imb, ia, ib),
-                Row::new(&ra, &rb, &self.tangents[1], ima, imb, ia, ib),
-            ],
+            n: Row::new(&ra, &rb, &n, self.ima, self.imb, ia, ib),
         }
+    }
+
+    /// The friction patch's anchors and rows now (see [`ContactConstraint::rows_now`]), with
+    /// its accumulated impulses.
+    fn patch_now(&self, bodies: &BodySet) -> PatchFriction {
+        if !self.follows {
+            return self.patch;
+        }
+        let (ia, ib) = self.inverse_inertias_now(bodies);
+        let mut points = [PointConstraint::default(); MAX_MANIFOLD_POINTS];
+        for (k, p) in points[..self.len].iter_mut().enumerate() {
+            let r = self.point_rows_now(k, bodies, &ia, &ib);
+            (p.ra, p.rb) = (r.ra, r.rb);
+        }
+        PatchFriction::new(
+            &points[..self.len.max(1)],
+            &self.normal,
+            &self.tangents,
+            (self.ima, self.imb, &ia, &ib),
+            (self.patch.tangent_impulse, self.patch.twist_impulse),
+        )
     }
 
     /// Takes its stiffness from the bodies' mass ratio ([`ContactStiffness`]).
@@ -468,8 +564,10 @@ impl ContactConstraint {
     pub(crate) fn scale_impulses(&mut self, f: f64) {
         for pc in &mut self.points[..self.len] {
             pc.normal_impulse *= f;
-            pc.tangent_impulse = [pc.tangent_impulse[0] * f, pc.tangent_impulse[1] * f];
         }
+        let p = &mut self.patch;
+        p.tangent_impulse = [p.tangent_impulse[0] * f, p.tangent_impulse[1] * f];
+        p.twist_impulse *= f;
         self.rolling_impulse *= f;
     }
 
@@ -499,19 +597,23 @@ impl ContactConstraint {
     /// Applies the accumulated impulses (warm start).
     pub fn warm_start(&self, bodies: &mut BodySet) {
         for (k, pc) in self.points[..self.len].iter().enumerate() {
-            if pc.normal_impulse == 0.0 && pc.tangent_impulse == [0.0; 2] {
+            if pc.normal_impulse == 0.0 {
                 continue;
             }
             let r = self.rows_now(k, bodies);
-            let p = self.normal * pc.normal_impulse
-                + self.tangents[0] * pc.tangent_impulse[0]
-                + self.tangents[1] * pc.tangent_impulse[1];
-            let ia = r.n.ia * pc.normal_impulse
-                + r.t[0].ia * pc.tangent_impulse[0]
-                + r.t[1].ia * pc.tangent_impulse[1];
-            let ib = r.n.ib * pc.normal_impulse
-                + r.t[0].ib * pc.tangent_impulse[0]
-                + r.t[1].ib * pc.tangent_impulse[1];
+            let p = self.normal * pc.normal_impulse;
+            let ia = r.n.ia * pc.normal_impulse;
+            let ib = r.n.ib * pc.normal_impulse;
+            self.apply(bodies, &p, &ia, &ib, 1.0);
+        }
+        let f = &self.patch;
+        if f.tangent_impulse != [0.0; 2] || f.twist_impulse != 0.0 {
+            let f = self.patch_now(bodies);
+            let [l0, l1] = f.tangent_impulse;
+            let tw = f.twist_impulse;
+            let p = self.tangents[0] * l0 + self.tangents[1] * l1;
+            let ia = f.t[0].ia * l0 + f.t[1].ia * l1 + f.twist.ia * tw;
+            let ib = f.t[0].ib * l0 + f.t[1].ib * l1 + f.twist.ib * tw;
             self.apply(bodies, &p, &ia, &ib, 1.0);
         }
         if self.rolling_arm > 0.0 {
@@ -573,36 +675,42 @@ impl ContactConstraint {
             vb += p * imb;
             wb += r.n.ib * delta;
         }
-        if self.friction > 0.0 {
+        let f = &self.patch;
+        let carried = f.tangent_impulse != [0.0; 2] || f.twist_impulse != 0.0;
+        if self.friction > 0.0 && (total > 0.0 || carried) {
             let (t0, t1) = (self.tangents[0], self.tangents[1]);
-            for i in 0..len {
-                let r = self.rows_now(idx(i), bodies);
-                let pc = &mut self.points[idx(i)];
-                let l0 = pc.tangent_impulse;
-                if pc.normal_impulse == 0.0 && l0 == [0.0; 2] {
-                    // The cone is a point and nothing is accumulated: the row is a no-op.
-                    continue;
-                }
-                let dv = vb + wb.cross(&r.rb) - va - wa.cross(&r.ra);
-                let mut l = [
-                    l0[0] - r.t[0].mass * t0.dot(&dv),
-                    l0[1] - r.t[1].mass * t1.dot(&dv),
-                ];
-                // Coulomb cone: |λt| ≤ μ λn.
-                let max = self.friction * pc.normal_impulse;
-                let len2 = l[0] * l[0] + l[1] * l[1];
-                if len2 > max * max {
-                    let sc = if len2 > 0.0 { max / len2.sqrt() } else { 0.0 };
-                    l = [l[0] * sc, l[1] * sc];
-                }
-                let d = [l[0] - l0[0], l[1] - l0[1]];
-                pc.tangent_impulse = l;
-                let p = t0 * d[0] + t1 * d[1];
-                va -= p * ima;
-                wa -= r.t[0].ia * d[0] + r.t[1].ia * d[1];
-                vb += p * imb;
-                wb += r.t[0].ib * d[0] + r.t[1].ib * d[1];
+            let r = self.patch_now(bodies);
+            let l0 = self.patch.tangent_impulse;
+            let dv = vb + wb.cross(&r.rb) - va - wa.cross(&r.ra);
+            let mut l = [
+                l0[0] - r.t[0].mass * t0.dot(&dv),
+                l0[1] - r.t[1].mass * t1.dot(&dv),
+            ];
+            // Coulomb cone: |λt| ≤ μ Σ λn.
+            let max = self.friction * total;
+            let len2 = l[0] * l[0] + l[1] * l[1];
+            if len2 > max * max {
+                let sc = if len2 > 0.0 { max / len2.sqrt() } else { 0.0 };
+                l = [l[0] * sc, l[1] * sc];
             }
+            let d = [l[0] - l0[0], l[1] - l0[1]];
+            self.patch.tangent_impulse = l;
+            let p = t0 * d[0] + t1 * d[1];
+            va -= p * ima;
+            wa -= r.t[0].ia * d[0] + r.t[1].ia * d[1];
+            vb += p * imb;
+            wb += r.t[0].ib * d[0] + r.t[1].ib * d[1];
+            // Torsion about the normal: |λ| ≤ μ ρ Σ λn.
+            let tw0 = self.patch.twist_impulse;
+            let max = self.friction * r.arm * total;
+            // Clamped as the four-lane solve clamps (a NaN bound gives the bound).
+            let tw = tw0 - r.twist.mass * n.dot(&(wb - wa));
+            let tw = if tw > -max { tw } else { -max };
+            let tw = if tw < max { tw } else { max };
+            let d = tw - tw0;
+            self.patch.twist_impulse = tw;
+            wa -= r.twist.ia * d;
+            wb += r.twist.ib * d;
         }
         if self.rolling_arm > 0.0 {
             let dw = wb - wa;
@@ -665,9 +773,10 @@ impl ContactConstraint {
     pub fn store(&self, m: &mut Manifold) {
         for (cp, pc) in m.points[..m.len].iter_mut().zip(&self.points) {
             cp.normal_impulse = pc.normal_impulse;
-            cp.tangent_impulse = pc.tangent_impulse;
             cp.max_normal_impulse = pc.max_normal_impulse;
         }
+        m.friction_impulse = self.patch.tangent_impulse;
+        m.twist_impulse = self.patch.twist_impulse;
         m.rolling_impulse = self.rolling_impulse;
     }
 }
