@@ -217,19 +217,21 @@ impl ContactGroup {
 
     #[inline(always)]
     fn warm_start(&self, bodies: &mut BodySet) {
-        let mut s = self.load(bodies);
-        for pl in &self.points {
-            let p = self.normal.scale(pl.normal_impulse);
-            let ia = pl.n.ia.scale(pl.normal_impulse);
-            let ib = pl.n.ib.scale(pl.normal_impulse);
-            self.apply(&mut s, &p, &ia, &ib);
-        }
+        // The impulses summed first (as `ContactConstraint::warm_start` sums them), then
+        // applied once: the bodies' velocities wait on one chain of additions, not five.
         let f = &self.patch;
         let [l0, l1] = f.tangent_impulse;
         let tw = f.twist_impulse;
-        let p = self.tangents[0].scale(l0) + self.tangents[1].scale(l1);
-        let ia = f.t[0].ia.scale(l0) + f.t[1].ia.scale(l1) + f.twist.ia.scale(tw);
-        let ib = f.t[0].ib.scale(l0) + f.t[1].ib.scale(l1) + f.twist.ib.scale(tw);
+        let mut total = Lanes::splat(0.0);
+        let mut ia = f.t[0].ia.scale(l0) + f.t[1].ia.scale(l1) + f.twist.ia.scale(tw);
+        let mut ib = f.t[0].ib.scale(l0) + f.t[1].ib.scale(l1) + f.twist.ib.scale(tw);
+        for pl in &self.points {
+            total = total + pl.normal_impulse;
+            ia += pl.n.ia.scale(pl.normal_impulse);
+            ib += pl.n.ib.scale(pl.normal_impulse);
+        }
+        let p = self.normal.scale(total) + self.tangents[0].scale(l0) + self.tangents[1].scale(l1);
+        let mut s = self.load(bodies);
         self.apply(&mut s, &p, &ia, &ib);
         self.store(bodies, &s);
     }

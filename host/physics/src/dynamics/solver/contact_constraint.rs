@@ -596,24 +596,22 @@ impl ContactConstraint {
 
     /// Applies the accumulated impulses (warm start).
     pub fn warm_start(&self, bodies: &mut BodySet) {
+        // The friction patch's impulses, then each point's normal impulse, summed before
+        // they are applied once (the four-lane warm start sums in the same order).
+        let f = self.patch_now(bodies);
+        let [l0, l1] = f.tangent_impulse;
+        let tw = f.twist_impulse;
+        let mut total = 0.0;
+        let mut ia = f.t[0].ia * l0 + f.t[1].ia * l1 + f.twist.ia * tw;
+        let mut ib = f.t[0].ib * l0 + f.t[1].ib * l1 + f.twist.ib * tw;
         for (k, pc) in self.points[..self.len].iter().enumerate() {
-            if pc.normal_impulse == 0.0 {
-                continue;
-            }
             let r = self.rows_now(k, bodies);
-            let p = self.normal * pc.normal_impulse;
-            let ia = r.n.ia * pc.normal_impulse;
-            let ib = r.n.ib * pc.normal_impulse;
-            self.apply(bodies, &p, &ia, &ib, 1.0);
+            total += pc.normal_impulse;
+            ia += r.n.ia * pc.normal_impulse;
+            ib += r.n.ib * pc.normal_impulse;
         }
-        let f = &self.patch;
-        if f.tangent_impulse != [0.0; 2] || f.twist_impulse != 0.0 {
-            let f = self.patch_now(bodies);
-            let [l0, l1] = f.tangent_impulse;
-            let tw = f.twist_impulse;
-            let p = self.tangents[0] * l0 + self.tangents[1] * l1;
-            let ia = f.t[0].ia * l0 + f.t[1].ia * l1 + f.twist.ia * tw;
-            let ib = f.t[0].ib * l0 + f.t[1].ib * l1 + f.twist.ib * tw;
+        let p = self.normal * total + self.tangents[0] * l0 + self.tangents[1] * l1;
+        if p != V3::zeros() || ia != V3::zeros() || ib != V3::zeros() {
             self.apply(bodies, &p, &ia, &ib, 1.0);
         }
         if self.rolling_arm > 0.0 {
