@@ -188,6 +188,10 @@ fn a_heavy_box_dropped_on_a_pyramid_is_carried() {
         return;
     }
     let fastest = fastest_point(&w);
+    eprintln!(
+        "heavy box on a pyramid: ground penetration {:.4} m, fastest point {fastest:.3} m/s after 3 s",
+        deepest
+    );
     assert!(
         fastest < 1.0,
         "a point still moves at {fastest} m/s after 3 s"
