@@ -34,8 +34,9 @@ struct RowLanes {
 /// The `k`-th point of four constraints.
 #[derive(Clone, Copy, Debug, Default)]
 struct PointLanes {
-    ra: LaneV3,
-    rb: LaneV3,
+    /// The normal row's angular Jacobians `ra × n`, `rb × n` (m).
+    ja: LaneV3,
+    jb: LaneV3,
     n: RowLanes,
     separation: Lanes,
     normal_impulse: Lanes,
@@ -119,8 +120,8 @@ impl PointLanes {
     fn set_lane(&mut self, l: usize, pc: Option<&PointConstraint>) {
         let zero = PointConstraint::default();
         let pc = pc.unwrap_or(&zero);
-        self.ra.set(l, pc.ra.into());
-        self.rb.set(l, pc.rb.into());
+        self.ja.set(l, pc.ja.into());
+        self.jb.set(l, pc.jb.into());
         self.n.ia.set(l, pc.n.ia.into());
         self.n.ib.set(l, pc.n.ib.into());
         self.n.mass.0[l] = pc.n.mass;
@@ -239,11 +240,12 @@ impl ContactGroup {
     #[inline(always)]
     fn solve(&mut self, bodies: &mut BodySet, inv_h: f64, max_push: f64, pass: SolvePass) {
         let mut s = self.load(bodies);
-        let d_lin =
-            gather(&bodies.dp, &self.b, self.lanes) - gather(&bodies.dp, &self.a, self.lanes);
+        let n = self.normal;
+        let nd = n.dot(
+            &(gather(&bodies.dp, &self.b, self.lanes) - gather(&bodies.dp, &self.a, self.lanes)),
+        );
         let dta = gather(&bodies.dtheta, &self.a, self.lanes);
         let dtb = gather(&bodies.dtheta, &self.b, self.lanes);
-        let n = self.normal;
         let (zero, one) = (Lanes::splat(0.0), Lanes::splat(1.0));
         let inv_h = Lanes::splat(inv_h);
         // The points' order, taken once per pass rather than per point (measured: towers-1120
@@ -255,8 +257,7 @@ impl ContactGroup {
         let mut total = zero;
         for &k in &order {
             let pl = &mut self.points[k];
-            let d = d_lin + dtb.cross(&pl.rb) - dta.cross(&pl.ra);
-            let sep = n.dot(&d) + pl.separation;
+            let sep = nd + (dtb.dot(&pl.jb) - dta.dot(&pl.ja)) + pl.separation;
             let ahead = sep.gt(zero);
             let (bias, ms, is) = if pass.use_bias {
                 let pushed = (self.bias_rate * (sep + Lanes::splat(LINEAR_SLOP)).min(zero))
@@ -269,8 +270,7 @@ impl ContactGroup {
             } else {
                 (ahead.select(sep * inv_h, zero), one, zero)
             };
-            let dv = s.vb + s.wb.cross(&pl.rb) - s.va - s.wa.cross(&pl.ra);
-            let vn = n.dot(&dv);
+            let vn = n.dot(&(s.vb - s.va)) + (s.wb.dot(&pl.jb) - s.wa.dot(&pl.ja));
             let imp = -(pl.n.mass * ms * (vn + bias)) - is * pl.normal_impulse;
             let new = (pl.normal_impulse + imp).max(zero);
             let delta = new - pl.normal_impulse;

@@ -94,6 +94,10 @@ impl Row {
 pub(super) struct PointConstraint {
     pub(super) ra: V3,
     pub(super) rb: V3,
+    /// The normal row's angular Jacobians `ra × n` and `rb × n` (m): the normal relative
+    /// velocity is `n·(vb − va) + ωb·(rb × n) − ωa·(ra × n)`.
+    pub(super) ja: V3,
+    pub(super) jb: V3,
     pub(super) n: Row,
     /// Separation at the start of the step (m).
     pub(super) separation: f64,
@@ -211,12 +215,14 @@ pub struct ContactConstraint {
     pub(super) follows: bool,
 }
 
-/// A point's anchors (m, world, from each centre of mass) and normal row at the current
-/// substep.
+/// A point's anchors (m, world, from each centre of mass), angular Jacobians and normal row
+/// at the current substep.
 #[derive(Clone, Copy, Debug, Default)]
 struct PointRows {
     ra: V3,
     rb: V3,
+    ja: V3,
+    jb: V3,
     n: Row,
 }
 
@@ -312,6 +318,8 @@ impl ContactConstraint {
             *pc = PointConstraint {
                 ra,
                 rb,
+                ja: ra.cross(&n),
+                jb: rb.cross(&n),
                 n: Row::new(&ra, &rb, &n, ima, imb, &ia, &ib),
                 separation: cp.separation,
                 relative_velocity: n.dot(&dv),
@@ -422,6 +430,8 @@ impl ContactConstraint {
             return PointRows {
                 ra: pc.ra,
                 rb: pc.rb,
+                ja: pc.ja,
+                jb: pc.jb,
                 n: pc.n,
             };
         }
@@ -462,6 +472,8 @@ impl ContactConstraint {
         PointRows {
             ra,
             rb,
+            ja: ra.cross(&n),
+            jb: rb.cross(&n),
             n: Row::new(&ra, &rb, &n, self.ima, self.imb, ia, ib),
         }
     }
@@ -637,7 +649,8 @@ impl ContactConstraint {
             bodies.vel[b],
             bodies.omega[b],
         );
-        let d_lin = bodies.dp[b] - bodies.dp[a];
+        // The separation now: `n·Δp` once, then each point's `dθb·(rb × n) − dθa·(ra × n)`.
+        let nd = n.dot(&(bodies.dp[b] - bodies.dp[a]));
         let (dta, dtb) = (bodies.dtheta[a], bodies.dtheta[b]);
         let mut total = 0.0;
         let len = self.len;
@@ -645,8 +658,7 @@ impl ContactConstraint {
         for i in 0..len {
             let r = self.rows_now(idx(i), bodies);
             let pc = &mut self.points[idx(i)];
-            let d = d_lin + dtb.cross(&pc.rb) - dta.cross(&pc.ra);
-            let s = n.dot(&d) + pc.separation;
+            let s = nd + (dtb.dot(&pc.jb) - dta.dot(&pc.ja)) + pc.separation;
             let (bias, ms, is) = if s > 0.0 {
                 (s * inv_h, 1.0, 0.0)
             } else if use_bias {
@@ -659,8 +671,7 @@ impl ContactConstraint {
             } else {
                 (0.0, 1.0, 0.0)
             };
-            let dv = vb + wb.cross(&r.rb) - va - wa.cross(&r.ra);
-            let vn = n.dot(&dv);
+            let vn = n.dot(&(vb - va)) + (wb.dot(&r.jb) - wa.dot(&r.ja));
             let imp = -r.n.mass * ms * (vn + bias) - is * pc.normal_impulse;
             let new = (pc.normal_impulse + imp).max(0.0);
             let delta = new - pc.normal_impulse;
