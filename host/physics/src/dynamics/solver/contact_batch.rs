@@ -14,7 +14,7 @@
 //! On x86-64 the same code also runs compiled for AVX2 when the processor has it (detected
 //! once); both copies compute the same bits (no fused multiply–add is ever formed).
 
-use super::contact_constraint::{PatchFriction, PointConstraint, LINEAR_SLOP};
+use super::contact_constraint::{PatchFriction, PointConstraint, Row, LINEAR_SLOP};
 use super::lanes::{LaneV3, Lanes, WIDTH};
 use super::{ContactConstraint, Softness, SolvePass};
 use crate::dynamics::BodySet;
@@ -122,9 +122,7 @@ impl PointLanes {
         let pc = pc.unwrap_or(&zero);
         self.ja.set(l, pc.ja.into());
         self.jb.set(l, pc.jb.into());
-        self.n.ia.set(l, pc.n.ia.into());
-        self.n.ib.set(l, pc.n.ib.into());
-        self.n.mass.0[l] = pc.n.mass;
+        self.n.set_lane(l, &pc.n);
         self.separation.0[l] = pc.separation;
         self.normal_impulse.0[l] = pc.normal_impulse;
         self.max_normal_impulse.0[l] = pc.max_normal_impulse;
@@ -132,7 +130,8 @@ impl PointLanes {
 }
 
 impl RowLanes {
-    fn set_lane(&mut self, l: usize, r: &super::contact_constraint::Row) {
+    /// Lane `l` from a row.
+    fn set_lane(&mut self, l: usize, r: &Row) {
         self.ia.set(l, r.ia.into());
         self.ib.set(l, r.ib.into());
         self.mass.0[l] = r.mass;
