@@ -99,8 +99,8 @@ fn case01_tower_of_40_boxes_stands() {
 /// the pair's effective mass, so a light body carrying a heavy one sits on a soft, jiggling
 /// spring: measured over 20 s a sink of 2.2 cm, an overlap of 2.6 cm and a sideways creep of
 /// 2.4–2.6 cm (4.4–5.0 cm before friction was solved per manifold; the test prints them with
-/// `VPHYS_FULL_HARD_CASES=1` and `--nocapture`): the sink and overlap close to the bounds. Stiffer contacts on these
-/// pairs make it worse (180 Hz: 10–50 cm sideways), so they keep 120 Hz (see
+/// `VPHYS_FULL_HARD_CASES=1` and `--nocapture`): the sink and overlap close to the bounds.
+/// Stiffer contacts on these pairs make it worse (180 Hz: 10–50 cm sideways), so they keep 120 Hz (see
 /// `ContactStiffness`).
 #[test]
 fn case02_extreme_mass_ratio_stacks_hold() {

@@ -83,6 +83,18 @@ struct BodyLanes {
     wb: LaneV3,
 }
 
+impl BodyLanes {
+    /// Applies the impulse `p` (N·s, world) with the angular responses `ia`, `ib` already
+    /// through each body's inverse inertia: −`p` to A, +`p` to B.
+    #[inline(always)]
+    fn apply(&mut self, ima: Lanes, imb: Lanes, p: &LaneV3, ia: &LaneV3, ib: &LaneV3) {
+        self.va -= p.scale(ima);
+        self.wa -= *ia;
+        self.vb += p.scale(imb);
+        self.wb += *ib;
+    }
+}
+
 #[inline(always)]
 fn gather(v: &[V3], idx: &[usize; WIDTH], lanes: usize) -> LaneV3 {
     let mut r = LaneV3::default();
@@ -208,14 +220,6 @@ impl ContactGroup {
     }
 
     #[inline(always)]
-    fn apply(&self, s: &mut BodyLanes, p: &LaneV3, ia: &LaneV3, ib: &LaneV3) {
-        s.va -= p.scale(self.ima);
-        s.wa -= *ia;
-        s.vb += p.scale(self.imb);
-        s.wb += *ib;
-    }
-
-    #[inline(always)]
     fn warm_start(&self, bodies: &mut BodySet) {
         // The impulses summed first (as `ContactConstraint::warm_start` sums them), then
         // applied once: the bodies' velocities wait on one chain of additions, not five.
@@ -232,7 +236,7 @@ impl ContactGroup {
         }
         let p = self.normal.scale(total) + self.tangents[0].scale(l0) + self.tangents[1].scale(l1);
         let mut s = self.load(bodies);
-        self.apply(&mut s, &p, &ia, &ib);
+        s.apply(self.ima, self.imb, &p, &ia, &ib);
         self.store(bodies, &s);
     }
 
@@ -278,7 +282,7 @@ impl ContactGroup {
             total = total + new;
             let p = n.scale(delta);
             let (ia, ib) = (pl.n.ia.scale(delta), pl.n.ib.scale(delta));
-            self.apply(&mut s, &p, &ia, &ib);
+            s.apply(self.ima, self.imb, &p, &ia, &ib);
         }
         let [t0, t1] = self.tangents;
         {
@@ -307,10 +311,7 @@ impl ContactGroup {
             let p = t0.scale(d[0]) + t1.scale(d[1]);
             let ia = f.t[0].ia.scale(d[0]) + f.t[1].ia.scale(d[1]);
             let ib = f.t[0].ib.scale(d[0]) + f.t[1].ib.scale(d[1]);
-            s.va -= p.scale(self.ima);
-            s.wa -= ia;
-            s.vb += p.scale(self.imb);
-            s.wb += ib;
+            s.apply(self.ima, self.imb, &p, &ia, &ib);
             // Torsion about the normal: |λ| ≤ μ ρ Σ λn.
             let tw0 = f.twist_impulse;
             let max = self.friction * f.arm * total;

@@ -215,12 +215,9 @@ pub struct ContactConstraint {
     pub(super) follows: bool,
 }
 
-/// A point's anchors (m, world, from each centre of mass), angular Jacobians and normal row
-/// at the current substep.
+/// A point's angular Jacobians (m) and normal row at the current substep.
 #[derive(Clone, Copy, Debug, Default)]
 struct PointRows {
-    ra: V3,
-    rb: V3,
     ja: V3,
     jb: V3,
     n: Row,
@@ -416,32 +413,39 @@ impl ContactConstraint {
         }
     }
 
-    /// Point `k`'s anchors and rows now. Unless the constraint
-    /// [`follows`](ContactConstraint::follows) its round parts, those of the step's start. A
-    /// round side's anchor is its centre of curvature, turned with the body's rotation now,
-    /// `c = R c_body`, plus its radius along the normal; a side that is not round keeps its
-    /// anchor. The rows use each body's inverse inertia at its rotation now,
-    /// `R I⁻¹_body Rᵀ`. (The separation keeps its first-order update from the step's anchors,
-    /// `n·(Δp + dθ × r)`, which is the same for a round side's contact point and its centre.)
+    /// Point `k`'s angular Jacobians and normal row now. Unless the constraint
+    /// [`follows`](ContactConstraint::follows) its round parts (`now` is `None`), those of the
+    /// step's start; otherwise from its anchors now ([`ContactConstraint::anchors_now`]) and
+    /// each body's inverse inertia at its rotation now, `R I⁻¹_body Rᵀ`
+    /// ([`ContactConstraint::inertias_now`], taken once per pass). (The separation keeps its
+    /// first-order update from the step's anchors, `n·(Δp + dθ × r)`, which is the same for a
+    /// round side's contact point and its centre.)
     #[inline]
-    fn rows_now(&self, k: usize, bodies: &BodySet) -> PointRows {
+    fn rows_now(&self, k: usize, bodies: &BodySet, now: Option<&(M3, M3)>) -> PointRows {
         let pc = &self.points[k];
-        if !self.follows {
+        let Some((ia, ib)) = now else {
             return PointRows {
-                ra: pc.ra,
-                rb: pc.rb,
                 ja: pc.ja,
                 jb: pc.jb,
                 n: pc.n,
             };
+        };
+        let n = self.normal;
+        let (ra, rb) = self.anchors_now(k, bodies);
+        PointRows {
+            ja: ra.cross(&n),
+            jb: rb.cross(&n),
+            n: Row::new(&ra, &rb, &n, self.ima, self.imb, ia, ib),
         }
-        let (ia_now, ib_now) = self.inverse_inertias_now(bodies);
-        self.point_rows_now(k, bodies, &ia_now, &ib_now)
     }
 
-    /// Each moving body's inverse inertia at its rotation now, `R I⁻¹_body Rᵀ` (zero for a
-    /// body that does not move here).
-    fn inverse_inertias_now(&self, bodies: &BodySet) -> (M3, M3) {
+    /// For a constraint that [`follows`](ContactConstraint::follows) its round parts, each
+    /// moving body's inverse inertia at its rotation now, `R I⁻¹_body Rᵀ` (zero for a body that
+    /// does not move here); `None` for one that keeps the step's rows.
+    fn inertias_now(&self, bodies: &BodySet) -> Option<(M3, M3)> {
+        if !self.follows {
+            return None;
+        }
         let world_inv = |i: usize, im: f64| {
             if im > 0.0 {
                 let r = bodies.rot[i];
@@ -450,12 +454,13 @@ impl ContactConstraint {
                 M3::zeros()
             }
         };
-        (world_inv(self.a, self.ima), world_inv(self.b, self.imb))
+        Some((world_inv(self.a, self.ima), world_inv(self.b, self.imb)))
     }
 
-    /// Point `k`'s anchors and normal row of a constraint that follows its round parts, with
-    /// the inverse inertias now.
-    fn point_rows_now(&self, k: usize, bodies: &BodySet, ia: &M3, ib: &M3) -> PointRows {
+    /// Point `k`'s anchors now (m, world, from each centre of mass): a round side's centre of
+    /// curvature turned with its body plus its radius along the normal; a side that is not
+    /// round keeps the step's anchor.
+    fn anchors_now(&self, k: usize, bodies: &BodySet) -> (V3, V3) {
         let pc = &self.points[k];
         let n = self.normal;
         let [rad_a, rad_b] = self.round_radius;
@@ -469,32 +474,24 @@ impl ContactConstraint {
         } else {
             pc.rb
         };
-        PointRows {
-            ra,
-            rb,
-            ja: ra.cross(&n),
-            jb: rb.cross(&n),
-            n: Row::new(&ra, &rb, &n, self.ima, self.imb, ia, ib),
-        }
+        (ra, rb)
     }
 
     /// The friction patch's anchors and rows now (see [`ContactConstraint::rows_now`]), with
     /// its accumulated impulses.
-    fn patch_now(&self, bodies: &BodySet) -> PatchFriction {
-        if !self.follows {
+    fn patch_now(&self, bodies: &BodySet, now: Option<&(M3, M3)>) -> PatchFriction {
+        let Some((ia, ib)) = now else {
             return self.patch;
-        }
-        let (ia, ib) = self.inverse_inertias_now(bodies);
+        };
         let mut points = [PointConstraint::default(); MAX_MANIFOLD_POINTS];
         for (k, p) in points[..self.len].iter_mut().enumerate() {
-            let r = self.point_rows_now(k, bodies, &ia, &ib);
-            (p.ra, p.rb) = (r.ra, r.rb);
+            (p.ra, p.rb) = self.anchors_now(k, bodies);
         }
         PatchFriction::new(
             &points[..self.len.max(1)],
             &self.normal,
             &self.tangents,
-            (self.ima, self.imb, &ia, &ib),
+            (self.ima, self.imb, ia, ib),
             (self.patch.tangent_impulse, self.patch.twist_impulse),
         )
     }
@@ -610,14 +607,15 @@ impl ContactConstraint {
     pub fn warm_start(&self, bodies: &mut BodySet) {
         // The friction patch's impulses, then each point's normal impulse, summed before
         // they are applied once (the four-lane warm start sums in the same order).
-        let f = self.patch_now(bodies);
+        let now = self.inertias_now(bodies);
+        let f = self.patch_now(bodies, now.as_ref());
         let [l0, l1] = f.tangent_impulse;
         let tw = f.twist_impulse;
         let mut total = 0.0;
         let mut ia = f.t[0].ia * l0 + f.t[1].ia * l1 + f.twist.ia * tw;
         let mut ib = f.t[0].ib * l0 + f.t[1].ib * l1 + f.twist.ib * tw;
         for (k, pc) in self.points[..self.len].iter().enumerate() {
-            let r = self.rows_now(k, bodies);
+            let r = self.rows_now(k, bodies, now.as_ref());
             total += pc.normal_impulse;
             ia += r.n.ia * pc.normal_impulse;
             ib += r.n.ib * pc.normal_impulse;
@@ -652,11 +650,12 @@ impl ContactConstraint {
         // The separation now: `n·Δp` once, then each point's `dθb·(rb × n) − dθa·(ra × n)`.
         let nd = n.dot(&(bodies.dp[b] - bodies.dp[a]));
         let (dta, dtb) = (bodies.dtheta[a], bodies.dtheta[b]);
+        let now = self.inertias_now(bodies);
         let mut total = 0.0;
         let len = self.len;
         let idx = |i: usize| if reverse { len - 1 - i } else { i };
         for i in 0..len {
-            let r = self.rows_now(idx(i), bodies);
+            let r = self.rows_now(idx(i), bodies, now.as_ref());
             let pc = &mut self.points[idx(i)];
             let s = nd + (dtb.dot(&pc.jb) - dta.dot(&pc.ja)) + pc.separation;
             let (bias, ms, is) = if s > 0.0 {
@@ -688,7 +687,7 @@ impl ContactConstraint {
         let carried = f.tangent_impulse != [0.0; 2] || f.twist_impulse != 0.0;
         if self.friction > 0.0 && (total > 0.0 || carried) {
             let (t0, t1) = (self.tangents[0], self.tangents[1]);
-            let r = self.patch_now(bodies);
+            let r = self.patch_now(bodies, now.as_ref());
             let l0 = self.patch.tangent_impulse;
             let dv = vb + wb.cross(&r.rb) - va - wa.cross(&r.ra);
             let mut l = [
