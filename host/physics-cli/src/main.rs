@@ -115,6 +115,10 @@ enum Cmd {
         /// Relax (solve without position bias) only after the last substep, not after each.
         #[arg(long)]
         relax_last_only: bool,
+        /// Take the scene's substeps in every step, also once the world rests (by default a
+        /// resting world whose contacts allow takes half or a third of them).
+        #[arg(long)]
+        fixed_substeps: bool,
     },
     /// Cost of each effect added to a base scene, and of the same effect undeclared.
     Effects {
@@ -238,6 +242,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             scalar_contacts,
             hertz_cap,
             relax_last_only,
+            fixed_substeps,
         } => run::bench(
             &scene,
             steps,
@@ -249,6 +254,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 scalar_contacts,
                 hertz_cap,
                 relax_last_only,
+                fixed_substeps,
             },
         ),
     }

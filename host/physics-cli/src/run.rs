@@ -143,20 +143,28 @@ pub fn time_steps(w: &mut World, n: u64, show: bool) -> Result<Vec<f64>> {
 }
 
 /// Times `n` steps of a world as [`time_steps`] does; also returns the mean number of contact
-/// points per step (the step counters' `contacts`, read after each step, outside the timing).
-pub fn time_steps_counting_points(w: &mut World, n: u64, show: bool) -> Result<(Vec<f64>, f64)> {
+/// points per step and of substeps the steps took (the step counters' `contacts` and
+/// `substeps`, read after each step, outside the timing; a resting world may take fewer
+/// substeps than its settings name).
+pub fn time_steps_counting_points(
+    w: &mut World,
+    n: u64,
+    show: bool,
+) -> Result<(Vec<f64>, f64, f64)> {
     let pb = if show { bar(n) } else { ProgressBar::hidden() };
     let mut t = Vec::with_capacity(n.min(MAX_STEPS) as usize);
-    let mut points = 0.0;
+    let (mut points, mut substeps) = (0.0, 0.0);
     for _ in 0..n {
         let t0 = Instant::now();
         w.step()?;
         t.push(t0.elapsed().as_secs_f64() * 1e3);
         points += w.counters().contacts as f64;
+        substeps += w.counters().substeps as f64;
         pb.inc(1);
     }
     pb.finish_and_clear();
-    Ok((t, points / n.max(1) as f64))
+    let steps = n.max(1) as f64;
+    Ok((t, points / steps, substeps / steps))
 }
 
 /// (median, mean, worst) of samples.
@@ -184,6 +192,8 @@ pub struct SolverOverrides {
     pub hertz_cap: Option<f64>,
     /// Relax only after the last substep.
     pub relax_last_only: bool,
+    /// The scene's substeps in every step, also at rest.
+    pub fixed_substeps: bool,
 }
 
 /// `vphys bench`: ms per step and the drift of the boxes, as one JSON object.
@@ -214,6 +224,9 @@ pub fn bench(
     if overrides.relax_last_only {
         w.settings_mut().relax_each_substep = false;
     }
+    if overrides.fixed_substeps {
+        w.settings_mut().fewer_substeps_at_rest = false;
+    }
     if let Some(cap) = overrides.hertz_cap {
         anyhow::ensure!(
             cap.is_finite() && cap > 0.0,
@@ -223,13 +236,13 @@ pub fn bench(
     }
     let n = steps.or(s.steps).unwrap_or(600).min(MAX_STEPS);
     let start = bodies::positions(&w);
-    let (t, points) = time_steps_counting_points(&mut w, n, true)?;
+    let (t, points, taken) = time_steps_counting_points(&mut w, n, true)?;
     let (med, mean, worst) = stats(&t);
     let d = bodies::displacement(&w, &start);
     let substeps = w.settings().substeps;
-    // The whole step's median time shared over every contact point of every substep.
-    let ns_per_point_substep = if points > 0.0 {
-        serde_json::json!(med * 1e6 / (points * substeps as f64))
+    // The whole step's median time shared over every contact point of every substep taken.
+    let ns_per_point_substep = if points > 0.0 && taken > 0.0 {
+        serde_json::json!(med * 1e6 / (points * taken))
     } else {
         serde_json::Value::Null
     };
@@ -241,7 +254,9 @@ pub fn bench(
         "max_horizontal_drift_m": d.max_horizontal, "max_vertical_drift_m": d.max_vertical,
         "max_penetration_m": w.max_penetration(),
         "mean_contact_points": points, "ns_per_contact_point_substep": ns_per_point_substep,
-        "substeps": substeps, "contact_hertz": w.settings().contact_hertz,
+        "substeps": substeps, "mean_substeps_taken": taken,
+        "fewer_substeps_at_rest": w.settings().fewer_substeps_at_rest,
+        "contact_hertz": w.settings().contact_hertz,
         "soft_contacts": w.settings().soft_contacts,
         "batch_contacts": w.settings().batch_contacts,
         "contact_hertz_cap": w.settings().contact_hertz_cap,

@@ -67,6 +67,8 @@ pub(crate) struct IslandSubsteps {
     supports: Vec<(u8, u32)>,
     /// Per body: the body it stands on alone ([`NONE`]: none).
     below: Vec<u32>,
+    /// Whether a moving body stands alone on another ([`IslandSubsteps::stacked`]).
+    stacked: bool,
     /// Per body: how many bodies stand on it alone whose columns it has not gathered yet.
     standing: Vec<u32>,
     /// Bodies whose columns are complete, to be added to the bodies below them.
@@ -122,6 +124,17 @@ pub(crate) struct StepLoads<'a> {
 }
 
 impl IslandSubsteps {
+    /// Whether, at the last [`IslandSubsteps::leans`], a moving body stood alone on another
+    /// (a column of two or more bodies).
+    pub(crate) fn stacked(&self) -> bool {
+        self.stacked
+    }
+
+    /// Whether an island holds a stiffness factor above 1 from its last steps.
+    pub(crate) fn holding(&self) -> bool {
+        self.held.iter().any(|&(k, _)| k > 1)
+    }
+
     /// Lets go of the factors the islands hold (their bodies' indices changed).
     pub(crate) fn forget_held(&mut self) {
         self.held.clear();
@@ -139,109 +152,12 @@ impl IslandSubsteps {
         self.fine.clear();
         self.fine.resize(n, 1);
         self.held.resize(n, (1, 0.0));
-        let holding = self.held.iter().any(|&(k, _)| k > 1);
-        let moving = |i: usize| bodies.kind[i] == BodyKind::Dynamic && bodies.awake[i];
-        let up = loads.up;
-        // Each moving body's supporting contacts (loaded, the normal within 45° of up, the
-        // body on top); a body on exactly one stands in a column on the body below it.
-        self.supports.clear();
-        self.supports.resize(n, (0, 0));
-        let mut columns = false;
-        for (ci, c) in constraints.iter().enumerate() {
-            let along = c.normal().dot(&up);
-            let supports = along.abs() >= SUPPORT_COSINE && c.normal_impulse() > 0.0;
-            if !supports {
-                continue;
-            }
-            let upper = if along > 0.0 { c.b } else { c.a };
-            if moving(upper) {
-                let (count, _) = self.supports[upper];
-                self.supports[upper] = (count.saturating_add(1), ci as u32);
-                columns |= count == 0;
-            }
-        }
-        if !columns && !holding {
-            return 1;
-        }
-        // Each body's own column, and the body it stands on alone (`NONE`: none).
-        self.column.clear();
-        self.column.resize(n, Column::default());
-        self.below.clear();
-        self.below.resize(n, NONE);
-        self.standing.clear();
-        self.standing.resize(n, 0);
-        for i in (0..n).filter(|&i| moving(i)) {
-            let m = bodies.mass(i);
-            let b = &bodies.aabb[i];
-            let (c, half) = ((b.min + b.max) * 0.5, (b.max - b.min) * 0.5);
-            self.column[i] = Column {
-                mass: m,
-                moment: bodies.pos[i] * m,
-                top: up.dot(&c) + half.x * up.x.abs() + half.y * up.y.abs() + half.z * up.z.abs(),
-            };
-            let (count, ci) = self.supports[i];
-            if count == 1 {
-                let c = &constraints[ci as usize];
-                let below = if c.a == i { c.b } else { c.a };
-                if moving(below) {
-                    self.below[i] = below as u32;
-                    self.standing[below] += 1;
-                }
-            }
-        }
-        // From the tops down: a body's column is complete once every body standing on it
-        // alone has added its own (each body once; a loop, which no resting stack makes, is
-        // left out).
-        self.order.clear();
-        self.order.extend(
-            (0..n as u32).filter(|&i| moving(i as usize) && self.standing[i as usize] == 0),
-        );
-        while let Some(i) = self.order.pop() {
-            let below = self.below[i as usize];
-            if below == NONE {
-                continue;
-            }
-            let (above, below) = (self.column[i as usize], below as usize);
-            let col = &mut self.column[below];
-            col.mass += above.mass;
-            col.moment += above.moment;
-            col.top = col.top.max(above.top);
-            self.standing[below] -= 1;
-            if self.standing[below] == 0 {
-                self.order.push(below as u32);
-            }
-        }
-        // The lean each column contact gives the top of its column, kept by the body it
-        // supports; when none reaches the tolerance and no island holds a factor, the step
-        // takes its own substeps everywhere.
-        self.lean.clear();
-        self.lean.resize(n, 0.0);
-        let mut most: f64 = 0.0;
-        for i in 0..n {
-            let (count, ci) = self.supports[i];
-            if count != 1 || !moving(i) {
-                continue;
-            }
-            let c = &constraints[ci as usize];
-            let col = self.column[i];
-            let hz = loads.stiffness.hertz_for(c.against_static, c.mass_ratio());
-            let origin = bodies.pos[c.a];
-            let tilt = c.column_tilt(
-                &origin,
-                &(col.moment / col.mass),
-                col.mass * loads.gravity,
-                &up,
-                2.0 * std::f64::consts::PI * hz,
-            );
-            if tilt > 0.0 {
-                let at = up.dot(&(origin + c.anchor_a()));
-                self.lean[i] = tilt * (col.top - at).max(0.0);
-                most = most.max(self.lean[i]);
-            }
-        }
+        let holding = self.holding();
+        let most = self.leans(bodies, constraints, loads);
         if most <= LEAN_TOLERANCE && !holding {
             return 1;
         }
+        let moving = |i: usize| bodies.kind[i] == BodyKind::Dynamic && bodies.awake[i];
         // Islands of moving bodies joined by contacts; those with joints, tree links or moving
         // kinematic bodies are blocked.
         self.sets.reset(n);
@@ -324,6 +240,121 @@ impl IslandSubsteps {
         }
         self.factor = island_factor;
         factor
+    }
+
+    /// The elastic lean (m) that each column contact gives the top of its column at the
+    /// contacts' stiffness `loads.stiffness` ([`IslandSubsteps::lean`], by the body it
+    /// supports), and the largest of them (0: no body stands on a loaded contact).
+    pub(crate) fn leans(
+        &mut self,
+        bodies: &BodySet,
+        constraints: &[ContactConstraint],
+        loads: &StepLoads<'_>,
+    ) -> f64 {
+        let n = bodies.len();
+        let moving = |i: usize| bodies.kind[i] == BodyKind::Dynamic && bodies.awake[i];
+        let up = loads.up;
+        // Each moving body's supporting contacts (loaded, the normal within 45° of up, the
+        // body on top); a body on exactly one stands in a column on the body below it.
+        self.supports.clear();
+        self.supports.resize(n, (0, 0));
+        let mut columns = false;
+        for (ci, c) in constraints.iter().enumerate() {
+            let along = c.normal().dot(&up);
+            let supports = along.abs() >= SUPPORT_COSINE && c.normal_impulse() > 0.0;
+            if !supports {
+                continue;
+            }
+            let upper = if along > 0.0 { c.b } else { c.a };
+            if moving(upper) {
+                let (count, _) = self.supports[upper];
+                self.supports[upper] = (count.saturating_add(1), ci as u32);
+                columns |= count == 0;
+            }
+        }
+        if !columns {
+            self.lean.clear();
+            self.lean.resize(n, 0.0);
+            self.stacked = false;
+            return 0.0;
+        }
+        // Each body's own column, and the body it stands on alone (`NONE`: none).
+        self.column.clear();
+        self.column.resize(n, Column::default());
+        self.below.clear();
+        self.below.resize(n, NONE);
+        self.standing.clear();
+        self.standing.resize(n, 0);
+        for i in (0..n).filter(|&i| moving(i)) {
+            let m = bodies.mass(i);
+            let b = &bodies.aabb[i];
+            let (c, half) = ((b.min + b.max) * 0.5, (b.max - b.min) * 0.5);
+            self.column[i] = Column {
+                mass: m,
+                moment: bodies.pos[i] * m,
+                top: up.dot(&c) + half.x * up.x.abs() + half.y * up.y.abs() + half.z * up.z.abs(),
+            };
+            let (count, ci) = self.supports[i];
+            if count == 1 {
+                let c = &constraints[ci as usize];
+                let below = if c.a == i { c.b } else { c.a };
+                if moving(below) {
+                    self.below[i] = below as u32;
+                    self.standing[below] += 1;
+                }
+            }
+        }
+        self.stacked = self.below.iter().any(|&b| b != NONE);
+        // From the tops down: a body's column is complete once every body standing on it
+        // alone has added its own (each body once; a loop, which no resting stack makes, is
+        // left out).
+        self.order.clear();
+        self.order.extend(
+            (0..n as u32).filter(|&i| moving(i as usize) && self.standing[i as usize] == 0),
+        );
+        while let Some(i) = self.order.pop() {
+            let below = self.below[i as usize];
+            if below == NONE {
+                continue;
+            }
+            let (above, below) = (self.column[i as usize], below as usize);
+            let col = &mut self.column[below];
+            col.mass += above.mass;
+            col.moment += above.moment;
+            col.top = col.top.max(above.top);
+            self.standing[below] -= 1;
+            if self.standing[below] == 0 {
+                self.order.push(below as u32);
+            }
+        }
+        // The lean each column contact gives the top of its column, kept by the body it
+        // supports.
+        self.lean.clear();
+        self.lean.resize(n, 0.0);
+        let mut most: f64 = 0.0;
+        for i in 0..n {
+            let (count, ci) = self.supports[i];
+            if count != 1 || !moving(i) {
+                continue;
+            }
+            let c = &constraints[ci as usize];
+            let col = self.column[i];
+            let hz = loads.stiffness.hertz_for(c.against_static, c.mass_ratio());
+            let origin = bodies.pos[c.a];
+            let tilt = c.column_tilt(
+                &origin,
+                &(col.moment / col.mass),
+                col.mass * loads.gravity,
+                &up,
+                2.0 * std::f64::consts::PI * hz,
+            );
+            if tilt > 0.0 {
+                let at = up.dot(&(origin + c.anchor_a()));
+                self.lean[i] = tilt * (col.top - at).max(0.0);
+                most = most.max(self.lean[i]);
+            }
+        }
+        most
     }
 }
 

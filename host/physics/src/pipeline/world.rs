@@ -22,6 +22,10 @@ mod step_guard;
 pub(crate) mod island_substeps;
 use island_substeps::{IslandSubsteps, StepLoads};
 
+#[path = "resting_substeps.rs"]
+mod resting_substeps;
+use resting_substeps::{RestingSubsteps, RestingWorld};
+
 #[path = "link_proxies.rs"]
 mod link_proxies;
 
@@ -91,6 +95,11 @@ pub struct SolverSettings {
     pub linear_damping: f64,
     /// Angular damping rate (1/s), with the `damping` effect.
     pub angular_damping: f64,
+    /// Let a world whose free bodies all rest take half or a third of `substeps` when its
+    /// contacts, at the stiffness of those fewer substeps, hold it within 5 mm of sink and
+    /// 1 mm of lean (`pipeline/resting_substeps.rs`; default). Off, every step takes
+    /// `substeps`, as a sweep over them needs.
+    pub fewer_substeps_at_rest: bool,
     /// Solve the contacts four at a time (`ContactBatches`: graph colouring, one constraint
     /// per lane); false solves them one by one in manifold order (the same rows, another
     /// Gauss–Seidel order).
@@ -98,6 +107,21 @@ pub struct SolverSettings {
 }
 
 impl SolverSettings {
+    /// The contacts' stiffness on substeps of `h` (s): `contact_hertz` within the cap,
+    /// `even_mass_stiffening` times that between equal masses, twice it against a body that
+    /// does not move.
+    fn contact_stiffness(&self, h: f64) -> ContactStiffness {
+        let cap = self.contact_hertz_cap * (1.0 / h);
+        let hz = self.contact_hertz.min(cap);
+        ContactStiffness {
+            hertz: hz,
+            even_hertz: (self.even_mass_stiffening * hz).min(cap).max(hz),
+            static_hertz: 2.0 * hz,
+            damping_ratio: self.contact_damping_ratio,
+            substep: h,
+        }
+    }
+
     /// The factors `(linear, angular)` (–) the `damping` effect scales the velocities by over
     /// a substep of `h` (s): `1 / (1 + h c)` for each damping rate `c`.
     fn damping_factors(&self, h: f64) -> (f64, f64) {
@@ -127,6 +151,7 @@ impl Default for SolverSettings {
             linear_damping: 0.0,
             angular_damping: 0.0,
             batch_contacts: true,
+            fewer_substeps_at_rest: true,
         }
     }
 }
@@ -166,6 +191,7 @@ pub struct World {
     batched: bool,
     /// Islands whose contacts would lean take extra substeps (`island_substeps.rs`).
     island_substeps: IslandSubsteps,
+    resting_substeps: RestingSubsteps,
     /// Substeps of those islands per substep of the step (1: none this step).
     fine_factor: usize,
     /// Per constraint: whether it belongs to such an island.
@@ -232,6 +258,7 @@ impl World {
             batches: ContactBatches::default(),
             batched: false,
             island_substeps: IslandSubsteps::default(),
+            resting_substeps: RestingSubsteps::default(),
             fine_factor: 1,
             fine_constraint: Vec::new(),
             fine_batches: ContactBatches::default(),
@@ -332,9 +359,9 @@ impl World {
         self.counters.reset();
         let eff = self.effects;
         let dt = self.dt;
-        let n_sub = self.settings.substeps.max(1);
-        let h = dt / n_sub as f64;
-        let inv_h = 1.0 / h;
+        let mut n_sub = self.settings.substeps.max(1);
+        let mut h = dt / n_sub as f64;
+        let mut inv_h = 1.0 / h;
         self.counters.awake_bodies = self.bodies.awake.iter().filter(|a| **a).count();
         if self.islands.is_some() && self.counters.awake_bodies == 0 && !self.kinematic_moving() {
             // Everything sleeps and nothing can wake it: the free bodies' step is empty.
@@ -475,6 +502,12 @@ impl World {
             }
         }
 
+        let fewer = self.substeps_at_rest(n_sub, coupled);
+        if fewer < n_sub {
+            n_sub = fewer;
+            h = dt / n_sub as f64;
+            inv_h = 1.0 / h;
+        }
         let hz = self
             .settings
             .contact_hertz
@@ -490,14 +523,7 @@ impl World {
         };
         self.fine_factor = 1;
         if self.settings.soft_contacts {
-            let cap = self.settings.contact_hertz_cap * inv_h;
-            let stiffness = ContactStiffness {
-                hertz: hz,
-                even_hertz: (self.settings.even_mass_stiffening * hz).min(cap).max(hz),
-                static_hertz: 2.0 * hz,
-                damping_ratio: self.settings.contact_damping_ratio,
-                substep: h,
-            };
+            let stiffness = self.settings.contact_stiffness(h);
             for c in &mut self.constraints {
                 c.stiffen(&stiffness);
             }
@@ -775,6 +801,49 @@ impl World {
         }
         // Limits and prescribed motion last: each pass ends on their bounds and trajectories.
         self.solve_tree_drives(soft_static, pass, DriveGroup::Hard);
+    }
+
+    /// The substeps the step takes: fewer than `n_sub` where the world rests and its contacts
+    /// hold it as well on fewer ([`RestingSubsteps::substeps`]); `coupled` says whether
+    /// articulated trees are solved with the free bodies.
+    fn substeps_at_rest(&mut self, n_sub: usize, coupled: bool) -> usize {
+        let g = self.gravity.norm();
+        let allowed = self.settings.fewer_substeps_at_rest
+            && self.settings.soft_contacts
+            && self.effects.has(Effect::Gravity)
+            && g > 0.0;
+        if !allowed {
+            self.resting_substeps.forget();
+            return n_sub;
+        }
+        let joints_on = self.effects.has(Effect::Joints) && !self.joints.is_empty();
+        let more_than_contacts = joints_on
+            || coupled
+            || !self.articulated.is_empty()
+            || !self.tree_contacts.contacts.is_empty()
+            || self.kinematic_moving();
+        let world = RestingWorld {
+            loads: StepLoads {
+                stiffness: &self.settings.contact_stiffness(self.dt / n_sub as f64),
+                up: -self.gravity / g,
+                gravity: g,
+                manifolds: self.narrow.as_ref().map_or(&[][..], |n| &n.manifolds[..]),
+                joint_pairs: &self.joint_pairs,
+                proxies: &self.proxies,
+                dt: self.dt,
+            },
+            more_than_contacts,
+            substeps: n_sub,
+        };
+        let settings = self.settings;
+        let dt = self.dt;
+        self.resting_substeps.substeps(
+            &self.bodies,
+            &self.constraints,
+            &mut self.island_substeps,
+            &world,
+            |n| settings.contact_stiffness(dt / n as f64),
+        )
     }
 
     /// Decides which islands need stiffer contacts this step ([`IslandSubsteps::plan`]),

@@ -550,6 +550,27 @@ impl ContactConstraint {
         weight / stiffness / span
     }
 
+    /// The overlap (m) at which this contact's most loaded point settles under the load it
+    /// carries, at stiffness `omega` (rad/s): its carried normal impulse `λ`, accumulated over
+    /// a substep of `impulse_substep` (s), is the force `λ / h`, and a soft row of effective
+    /// mass `m` at rest under a force `F` overlaps by `F / (m ω²)` (see [`Softness::new`]).
+    pub(crate) fn resting_overlap(&self, omega: f64, impulse_substep: f64) -> f64 {
+        if impulse_substep <= 0.0 || omega <= 0.0 {
+            return 0.0;
+        }
+        self.points[..self.len]
+            .iter()
+            .filter(|p| p.n.mass > 0.0 && p.normal_impulse > 0.0)
+            .map(|p| p.normal_impulse / impulse_substep / (p.n.mass * omega * omega))
+            .fold(0.0, f64::max)
+    }
+
+    /// Whether the contact follows a round part's turn within the step
+    /// ([`ContactConstraint::follows`]).
+    pub(crate) fn follows_turn(&self) -> bool {
+        self.follows
+    }
+
     /// The normal (world, from A to B).
     pub(crate) fn normal(&self) -> V3 {
         self.normal

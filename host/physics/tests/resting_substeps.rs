@@ -1,0 +1,79 @@
+//! A resting world takes fewer substeps only where its contacts hold it as well on them
+//! (`pipeline/resting_substeps.rs`).
+
+use virtual_physics::geometry::V3;
+use virtual_physics::pipeline::{Effect, World};
+use virtual_physics::scene::builtin::{pyramid, towers};
+use virtual_physics::scene::SceneFile;
+
+/// The sink (m) a resting world may take on fewer substeps (`SINK_TOLERANCE`).
+const SINK_TOLERANCE: f64 = 5e-3;
+
+/// The scene with sleeping off, so that every body stays in the step.
+fn awake(mut s: SceneFile) -> World {
+    s.effects.retain(|e| *e != Effect::Sleeping);
+    s.build().unwrap()
+}
+
+/// Steps `n` times; returns the substeps each step took.
+fn steps(w: &mut World, n: usize) -> Vec<usize> {
+    (0..n)
+        .map(|_| {
+            w.step().unwrap();
+            w.counters().substeps
+        })
+        .collect()
+}
+
+fn largest_move(w: &World, start: &[V3]) -> f64 {
+    w.bodies()
+        .zip(start)
+        .map(|(b, p)| (b.position() - p).norm())
+        .fold(0.0, f64::max)
+}
+
+/// A pyramid (each box on four below it, none standing alone on another) takes the step's 12
+/// substeps until it has rested half a second, then a third of them, and stays within the
+/// sink tolerance of where it started.
+#[test]
+fn a_resting_pyramid_takes_a_third_of_the_substeps() {
+    let mut w = awake(pyramid(5));
+    let start: Vec<V3> = w.bodies().map(|b| b.position()).collect();
+    let taken = steps(&mut w, 120);
+    // Half a second at 1/60 s is 30 steps of rest.
+    assert!(taken[..30].iter().all(|&n| n == 12), "{taken:?}");
+    assert!(taken[60..].iter().all(|&n| n == 4), "{taken:?}");
+    let moved = largest_move(&w, &start);
+    assert!(moved <= SINK_TOLERANCE, "moved {moved} m");
+}
+
+/// Boxes standing alone on one another rock on their contacts' stiffness: towers keep the
+/// step's substeps.
+#[test]
+fn columns_keep_the_step_substeps() {
+    let mut w = awake(towers(1, 1, 5));
+    let taken = steps(&mut w, 120);
+    assert!(taken.iter().all(|&n| n == 12), "{taken:?}");
+}
+
+/// A resting pyramid's top box thrown upwards moves: that very step takes the full substeps.
+#[test]
+fn a_moving_body_brings_the_substeps_back_at_once() {
+    let mut w = awake(pyramid(5));
+    let taken = steps(&mut w, 60);
+    assert_eq!(taken.last(), Some(&4), "{taken:?}");
+    let top = w.body_handles().last().unwrap();
+    w.body_mut(top)
+        .unwrap()
+        .set_linear_velocity(V3::new(0.0, 0.0, 1.0));
+    assert_eq!(steps(&mut w, 1), [12]);
+}
+
+/// Switched off, every step takes the settings' substeps.
+#[test]
+fn switched_off_every_step_takes_the_settings_substeps() {
+    let mut w = awake(pyramid(5));
+    w.settings_mut().fewer_substeps_at_rest = false;
+    let taken = steps(&mut w, 120);
+    assert!(taken.iter().all(|&n| n == 12), "{taken:?}");
+}
