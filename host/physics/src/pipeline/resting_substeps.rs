@@ -23,6 +23,7 @@ use crate::dynamics::solver::contact_constraint::LINEAR_SLOP;
 use crate::dynamics::solver::softness::UNEVEN_MASS_RATIO;
 use crate::dynamics::solver::{ContactConstraint, ContactStiffness};
 use crate::dynamics::{BodyKind, BodySet};
+use crate::geometry::V3;
 use crate::pipeline::islands::{ANGULAR_SLEEP_SPEED, LINEAR_SLEEP_SPEED, TIME_TO_SLEEP};
 
 /// The sink (m) a resting world may take on fewer substeps: half the centimetre a resting
@@ -43,13 +44,31 @@ const DIVISORS: [usize; 2] = [2, 3];
 /// The decision's state, kept between steps.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct RestingSubsteps {
-    /// How long (s) the world has rested.
+    /// How long (s) every body has rested.
     rested: f64,
     /// Per body: its predicted sink (m).
     sink: Vec<f64>,
-    /// Supporting contacts: the height (m) of the body on top, the body on top, the body
-    /// below, the constraint.
-    supports: Vec<(f64, u32, u32, u32)>,
+    /// The loaded contacts that support a body, lowest body on top first.
+    supports: Vec<Load>,
+    /// The loaded contacts pressed from the side.
+    sides: Vec<Load>,
+}
+
+/// A loaded contact, as the sink prediction reads it.
+#[derive(Clone, Copy, Debug)]
+struct Load {
+    /// Height (m) of the body on top along `up` (supports only).
+    height: f64,
+    /// The body on top and the body below (supports only).
+    upper: u32,
+    lower: u32,
+    /// Whether one body cannot move.
+    against_static: bool,
+    /// Heavier over lighter moving mass (–).
+    mass_ratio: f64,
+    /// `max λ / (h m)` over its points (m/s²): its overlap at stiffness `ω` is this over `ω²`
+    /// ([`ContactConstraint::resting_overlap`] at `ω = 1`).
+    load: f64,
 }
 
 /// What the world tells the decision about itself.
@@ -81,15 +100,16 @@ impl RestingSubsteps {
         stiffness: impl Fn(usize) -> ContactStiffness,
     ) -> usize {
         let n = world.substeps;
-        if !self.rests(bodies, constraints, world) || islands.holding() {
+        if !still(bodies, constraints, world) || islands.holding() {
             self.rested = 0.0;
             return n;
         }
         self.rested += world.loads.dt;
-        if self.rested < RESTING_TIME {
+        if self.rested < RESTING_TIME || !self.gather(bodies, constraints, world.loads.up) {
             return n;
         }
         let mut chosen = n;
+        let mut lean = None;
         for d in DIVISORS {
             let fewer = n / d;
             if fewer == 0 || fewer >= chosen {
@@ -100,9 +120,13 @@ impl RestingSubsteps {
                 stiffness: &k,
                 ..world.loads
             };
-            let holds = islands.leans(bodies, constraints, &loads) <= LEAN_TOLERANCE
+            // A lean grows as the contacts soften: none at stiffer contacts, none at these.
+            if lean != Some(0.0) {
+                lean = Some(islands.leans(bodies, constraints, &loads));
+            }
+            let holds = lean.is_some_and(|l| l <= LEAN_TOLERANCE)
                 && !islands.stacked()
-                && self.sink(bodies, constraints, &loads) <= SINK_TOLERANCE;
+                && self.sink(bodies, &k) <= SINK_TOLERANCE;
             if !holds {
                 break;
             }
@@ -111,82 +135,91 @@ impl RestingSubsteps {
         chosen
     }
 
-    /// Whether the world rests this step: see the module's documentation.
-    fn rests(
-        &self,
-        bodies: &BodySet,
-        constraints: &[ContactConstraint],
-        world: &RestingWorld<'_>,
-    ) -> bool {
-        if world.more_than_contacts || constraints.is_empty() || world.loads.gravity <= 0.0 {
-            return false;
-        }
-        let still = (0..bodies.len()).all(|i| {
-            bodies.kind[i] != BodyKind::Dynamic
-                || !bodies.awake[i]
-                || (bodies.vel[i].norm() <= LINEAR_SLEEP_SPEED
-                    && bodies.omega[i].norm() <= ANGULAR_SLEEP_SPEED)
-        });
-        still
-            && constraints
-                .iter()
-                .all(|c| c.mass_ratio() < UNEVEN_MASS_RATIO && !c.follows_turn())
-    }
-
-    /// The largest sink (m) of a body at the contacts' stiffness `loads.stiffness`, under the
-    /// loads they carried: each body the overlap and slop of a contact it stands on plus the
-    /// sink of the body below, the largest over its supports, taken from the lowest body up.
-    fn sink(
-        &mut self,
-        bodies: &BodySet,
-        constraints: &[ContactConstraint],
-        loads: &StepLoads<'_>,
-    ) -> f64 {
-        let up = loads.up;
+    /// Gathers the loaded contacts, the supports sorted from the lowest body on top up;
+    /// false where a contact joins moving bodies [`UNEVEN_MASS_RATIO`] times apart or follows
+    /// a round part's turn.
+    fn gather(&mut self, bodies: &BodySet, constraints: &[ContactConstraint], up: V3) -> bool {
         let moving = |i: usize| bodies.kind[i] == BodyKind::Dynamic && bodies.awake[i];
-        // A contact's overlap under its load, and its slop.
-        let overlap = |c: &ContactConstraint| {
-            let hz = loads.stiffness.hertz_for(c.against_static, c.mass_ratio());
-            let substep = loads
-                .manifolds
-                .get(c.manifold)
-                .map_or(0.0, |m| m.impulse_substep);
-            c.resting_overlap(2.0 * std::f64::consts::PI * hz, substep) + LINEAR_SLOP
-        };
-        let mut most: f64 = 0.0;
         self.supports.clear();
-        for (ci, c) in constraints.iter().enumerate() {
-            if c.normal_impulse() <= 0.0 {
+        self.sides.clear();
+        for c in constraints {
+            let mass_ratio = c.mass_ratio();
+            if mass_ratio >= UNEVEN_MASS_RATIO || c.follows_turn() {
+                return false;
+            }
+            let load = c.resting_overlap(1.0);
+            if load <= 0.0 {
                 continue;
             }
             let along = c.normal().dot(&up);
-            if along.abs() < SUPPORT_COSINE {
-                // A contact pressed from the side moves its bodies by its own overlap.
-                most = most.max(overlap(c));
-                continue;
-            }
             let (upper, lower) = if along > 0.0 { (c.b, c.a) } else { (c.a, c.b) };
-            if moving(upper) {
-                let height = up.dot(&bodies.pos[upper]);
-                self.supports
-                    .push((height, upper as u32, lower as u32, ci as u32));
+            let l = Load {
+                height: up.dot(&bodies.pos[upper]),
+                upper: upper as u32,
+                lower: lower as u32,
+                against_static: c.against_static,
+                mass_ratio,
+                load,
+            };
+            if along.abs() < SUPPORT_COSINE {
+                self.sides.push(l);
+            } else if moving(upper) {
+                self.supports.push(l);
             }
         }
         // A body's supports lie below it, so theirs come first.
-        self.supports.sort_unstable_by(|x, y| x.0.total_cmp(&y.0));
+        self.supports
+            .sort_unstable_by(|x, y| x.height.total_cmp(&y.height));
+        true
+    }
+
+    /// The largest sink (m) of a body at the contacts' stiffness `k`, under the gathered
+    /// loads: each body the overlap and slop of a contact it stands on plus the sink of the
+    /// body below, the largest over its supports, taken from the lowest body up; a contact
+    /// pressed from the side (as between pushed boxes) moves its bodies by its own overlap.
+    fn sink(&mut self, bodies: &BodySet, k: &ContactStiffness) -> f64 {
+        let moving = |i: usize| bodies.kind[i] == BodyKind::Dynamic && bodies.awake[i];
+        // Almost every contact of a resting pile is between equal masses or against the
+        // ground: their stiffness once.
+        let (even, fixed) = (k.hertz_for(false, 1.0), k.hertz_for(true, 1.0));
+        let overlap = |l: &Load| {
+            let hz = if l.against_static {
+                fixed
+            } else if l.mass_ratio == 1.0 {
+                even
+            } else {
+                k.hertz_for(false, l.mass_ratio)
+            };
+            let omega = 2.0 * std::f64::consts::PI * hz;
+            l.load / (omega * omega) + LINEAR_SLOP
+        };
+        let mut most = self.sides.iter().map(overlap).fold(0.0, f64::max);
         self.sink.clear();
         self.sink.resize(bodies.len(), 0.0);
-        for &(_, upper, lower, ci) in &self.supports {
-            let overlap = overlap(&constraints[ci as usize]);
-            let below = if moving(lower as usize) {
-                self.sink[lower as usize]
+        for l in &self.supports {
+            let below = if moving(l.lower as usize) {
+                self.sink[l.lower as usize]
             } else {
                 0.0
             };
-            let s = &mut self.sink[upper as usize];
-            *s = s.max(below + overlap);
+            let s = &mut self.sink[l.upper as usize];
+            *s = s.max(below + overlap(l));
             most = most.max(*s);
         }
         most
     }
+}
+
+/// Whether every awake dynamic body rests, below the sleep speeds, in a world of free bodies
+/// in contact under gravity.
+fn still(bodies: &BodySet, constraints: &[ContactConstraint], world: &RestingWorld<'_>) -> bool {
+    if world.more_than_contacts || constraints.is_empty() || world.loads.gravity <= 0.0 {
+        return false;
+    }
+    (0..bodies.len()).all(|i| {
+        bodies.kind[i] != BodyKind::Dynamic
+            || !bodies.awake[i]
+            || (bodies.vel[i].norm() <= LINEAR_SLEEP_SPEED
+                && bodies.omega[i].norm() <= ANGULAR_SLEEP_SPEED)
+    })
 }

@@ -382,7 +382,7 @@ impl World {
                 self.broad = Some(BroadPhase::new(&self.bodies.shape));
             }
         }
-        self.constraints.clear();
+        let mut prepared = 0;
         self.tree_contacts.clear();
         if let (Some(broad), Some(narrow)) = (self.broad.as_mut(), self.narrow.as_mut()) {
             let ccd = eff.has(Effect::ContinuousCollision);
@@ -460,14 +460,20 @@ impl World {
                         )?;
                     }
                 } else if self.bodies.awake[a] || self.bodies.awake[b] {
-                    self.constraints.push(ContactConstraint::prepare(
-                        &self.bodies,
-                        m,
-                        mi,
-                        &settings,
-                    ));
+                    // The last step's constraints are rewritten in place.
+                    match self.constraints.get_mut(prepared) {
+                        Some(c) => c.prepare_in(&self.bodies, m, mi, &settings),
+                        None => self.constraints.push(ContactConstraint::prepare(
+                            &self.bodies,
+                            m,
+                            mi,
+                            &settings,
+                        )),
+                    }
+                    prepared += 1;
                 }
             }
+            self.constraints.truncate(prepared);
             if !self.constraints.is_empty() {
                 self.counters.mark(Stage::ContactSolve);
                 if settings.rolling {
@@ -475,6 +481,8 @@ impl World {
                 }
             }
         }
+        // Without collision, none.
+        self.constraints.truncate(prepared);
         let joints_on = eff.has(Effect::Joints) && !self.joints.is_empty();
         if joints_on {
             self.counters.mark(Stage::JointSolve);

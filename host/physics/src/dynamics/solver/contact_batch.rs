@@ -23,6 +23,9 @@ use crate::geometry::{MAX_MANIFOLD_POINTS, V3};
 /// Colours tried before a constraint is left to the scalar solve.
 const MAX_COLOURS: usize = 24;
 
+/// A constraint in no group.
+const NO_SLOT: u32 = u32::MAX;
+
 /// One row of four constraints' points.
 #[derive(Clone, Copy, Debug, Default)]
 struct RowLanes {
@@ -168,35 +171,32 @@ impl PatchLanes {
 }
 
 impl ContactGroup {
-    /// Fills the group in place (its buffers are reused step after step) with the
-    /// constraints `members` (at most [`WIDTH`]); unused lanes and points become zeros.
-    fn fill(&mut self, constraints: &[ContactConstraint], members: &[usize]) {
-        self.lanes = members.len();
-        for l in 0..WIDTH {
-            let c = members.get(l).map(|&ci| (ci, &constraints[ci]));
-            let (ci, a, b) = c.map_or((0, 0, 0), |(ci, c)| (ci, c.a, c.b));
-            self.constraint[l] = ci;
-            self.a[l] = a;
-            self.b[l] = b;
-            let c = c.map(|(_, c)| c);
-            let v = |f: fn(&ContactConstraint) -> V3| c.map_or([0.0; 3], |c| f(c).into());
-            self.normal.set(l, v(|c| c.normal));
-            self.tangents[0].set(l, v(|c| c.tangents[0]));
-            self.tangents[1].set(l, v(|c| c.tangents[1]));
-            let x = |f: fn(&ContactConstraint) -> f64| c.map_or(0.0, f);
-            self.ima.0[l] = x(|c| c.ima);
-            self.imb.0[l] = x(|c| c.imb);
-            self.friction.0[l] = x(|c| c.friction);
-            let s = c.map_or(Softness::rigid(0.0), |c| c.softness);
-            self.bias_rate.0[l] = s.bias_rate;
-            self.mass_scale.0[l] = s.mass_scale;
-            self.impulse_scale.0[l] = s.impulse_scale;
-            let points = c.map_or(&[][..], |c| &c.points[..c.len]);
-            for (k, pl) in self.points.iter_mut().enumerate() {
-                pl.set_lane(l, points.get(k));
-            }
-            self.patch.set_lane(l, c.map(|c| &c.patch));
+    /// Fills lane `l` in place (the group's buffers are reused step after step) with
+    /// constraint `ci` of `c`, or with zeros (rows that change nothing) for `None`; unused
+    /// points become zeros too.
+    fn set_lane(&mut self, l: usize, c: Option<(usize, &ContactConstraint)>) {
+        let (ci, a, b) = c.map_or((0, 0, 0), |(ci, c)| (ci, c.a, c.b));
+        self.constraint[l] = ci;
+        self.a[l] = a;
+        self.b[l] = b;
+        let c = c.map(|(_, c)| c);
+        let v = |f: fn(&ContactConstraint) -> V3| c.map_or([0.0; 3], |c| f(c).into());
+        self.normal.set(l, v(|c| c.normal));
+        self.tangents[0].set(l, v(|c| c.tangents[0]));
+        self.tangents[1].set(l, v(|c| c.tangents[1]));
+        let x = |f: fn(&ContactConstraint) -> f64| c.map_or(0.0, f);
+        self.ima.0[l] = x(|c| c.ima);
+        self.imb.0[l] = x(|c| c.imb);
+        self.friction.0[l] = x(|c| c.friction);
+        let s = c.map_or(Softness::rigid(0.0), |c| c.softness);
+        self.bias_rate.0[l] = s.bias_rate;
+        self.mass_scale.0[l] = s.mass_scale;
+        self.impulse_scale.0[l] = s.impulse_scale;
+        let points = c.map_or(&[][..], |c| &c.points[..c.len]);
+        for (k, pl) in self.points.iter_mut().enumerate() {
+            pl.set_lane(l, points.get(k));
         }
+        self.patch.set_lane(l, c.map(|c| &c.patch));
     }
 
     #[inline(always)]
@@ -354,6 +354,8 @@ pub struct ContactBatches {
     pub colours: usize,
     used: Vec<Vec<u64>>,
     members: Vec<Vec<usize>>,
+    /// Per constraint: its group times [`WIDTH`] plus its lane ([`NO_SLOT`]: none).
+    slot: Vec<u32>,
     /// Whether the processor has AVX2 (asked once).
     #[cfg(target_arch = "x86_64")]
     avx2: Option<bool>,
@@ -420,10 +422,29 @@ impl ContactBatches {
         if self.groups.len() < count {
             self.groups.resize_with(count, Default::default);
         }
-        let mut groups = self.groups.iter_mut();
+        // Each member's group and lane; the unused lanes of a colour's last group zeroed.
+        self.slot.clear();
+        self.slot.resize(constraints.len(), NO_SLOT);
+        let mut first = 0;
         for m in &self.members[..self.colours] {
-            for (chunk, g) in m.chunks(WIDTH).zip(groups.by_ref()) {
-                g.fill(constraints, chunk);
+            for (i, &ci) in m.iter().enumerate() {
+                self.slot[ci] = (first * WIDTH + i) as u32;
+            }
+            let groups = m.len().div_ceil(WIDTH);
+            for (j, g) in self.groups[first..first + groups].iter_mut().enumerate() {
+                g.lanes = (m.len() - j * WIDTH).min(WIDTH);
+                for l in g.lanes..WIDTH {
+                    g.set_lane(l, None);
+                }
+            }
+            first += groups;
+        }
+        // The members in the constraints' order, so that they are read front to back (the
+        // colours interleave them).
+        for (ci, (c, &slot)) in constraints.iter().zip(&self.slot).enumerate() {
+            if slot != NO_SLOT {
+                let (g, l) = (slot as usize / WIDTH, slot as usize % WIDTH);
+                self.groups[g].set_lane(l, Some((ci, c)));
             }
         }
         self.live = count;

@@ -196,6 +196,8 @@ pub struct ContactConstraint {
     pub(super) points: [PointConstraint; MAX_MANIFOLD_POINTS],
     /// The manifold's friction rows and impulses.
     pub(super) patch: PatchFriction,
+    /// The substep (s) the carried impulses were accumulated over (0: none carried).
+    impulse_substep: f64,
     /// Radius (m) of A's and B's part where it is round (sphere, capsule) and its centre of
     /// curvature is off the body's centre of mass; 0 otherwise.
     round_radius: [f64; 2],
@@ -274,6 +276,49 @@ fn rolling_radius(s: &Shape) -> f64 {
 impl ContactConstraint {
     /// Builds the constraint of manifold `mi` from the bodies' current state.
     pub fn prepare(bodies: &BodySet, m: &Manifold, mi: usize, settings: &ContactSettings) -> Self {
+        let mut c = Self::blank();
+        c.prepare_in(bodies, m, mi, settings);
+        c
+    }
+
+    /// A constraint that changes nothing, to be prepared in place.
+    fn blank() -> Self {
+        Self {
+            a: 0,
+            b: 0,
+            manifold: 0,
+            normal: V3::zeros(),
+            tangents: [V3::zeros(); 2],
+            ima: 0.0,
+            imb: 0.0,
+            ia: M3::zeros(),
+            ib: M3::zeros(),
+            friction: 0.0,
+            restitution: 0.0,
+            rolling_arm: 0.0,
+            rolling_mass: M3::zeros(),
+            rolling_impulse: V3::zeros(),
+            against_static: false,
+            softness: Softness::rigid(0.0),
+            len: 0,
+            points: [PointConstraint::default(); MAX_MANIFOLD_POINTS],
+            patch: PatchFriction::default(),
+            impulse_substep: 0.0,
+            round_radius: [0.0; 2],
+            centre: [[V3::zeros(); 2]; MAX_MANIFOLD_POINTS],
+            follows: false,
+        }
+    }
+
+    /// [`ContactConstraint::prepare`] in place: the world's constraints are kept step after
+    /// step and rewritten, which spares the copy of a new one into its place.
+    pub(crate) fn prepare_in(
+        &mut self,
+        bodies: &BodySet,
+        m: &Manifold,
+        mi: usize,
+        settings: &ContactSettings,
+    ) {
         let (a, b) = (m.a as usize, m.b as usize);
         let ima = if bodies.awake[a] {
             bodies.inv_mass[a]
@@ -307,8 +352,7 @@ impl ContactConstraint {
             bodies.vel[b],
             bodies.omega[b],
         );
-        let mut points = [PointConstraint::default(); MAX_MANIFOLD_POINTS];
-        for (pc, cp) in points.iter_mut().zip(m.points()) {
+        for (pc, cp) in self.points.iter_mut().zip(m.points()) {
             let ra = cp.point - bodies.pos[a];
             let rb = cp.point - bodies.pos[b];
             let dv = vb + wb.cross(&rb) - va - wa.cross(&ra);
@@ -324,8 +368,11 @@ impl ContactConstraint {
                 max_normal_impulse: 0.0,
             };
         }
-        let patch = PatchFriction::new(
-            &points[..m.len.max(1)],
+        for pc in &mut self.points[m.len..] {
+            *pc = PointConstraint::default();
+        }
+        self.patch = PatchFriction::new(
+            &self.points[..m.len.max(1)],
             &n,
             &tangents,
             (ima, imb, &ia, &ib),
@@ -375,42 +422,39 @@ impl ContactConstraint {
         } else {
             M3::zeros()
         };
-        Self {
-            a,
-            b,
-            manifold: mi,
-            normal: n,
-            tangents,
-            ima,
-            imb,
-            ia,
-            ib,
-            friction: if settings.friction {
-                ma.pair_friction(mb)
-            } else {
-                0.0
-            },
-            restitution: if settings.restitution {
-                ma.pair_restitution(mb)
-            } else {
-                0.0
-            },
-            rolling_arm: rr,
-            rolling_mass,
-            rolling_impulse: if rr > 0.0 {
-                m.rolling_impulse
-            } else {
-                V3::zeros()
-            },
-            against_static: ima == 0.0 || imb == 0.0,
-            softness: Softness::rigid(0.0),
-            len: m.len,
-            points,
-            patch,
-            round_radius: radius,
-            centre,
-            follows: radius[0] > 0.0 || radius[1] > 0.0,
-        }
+        self.a = a;
+        self.b = b;
+        self.manifold = mi;
+        self.normal = n;
+        self.tangents = tangents;
+        self.ima = ima;
+        self.imb = imb;
+        self.ia = ia;
+        self.ib = ib;
+        self.friction = if settings.friction {
+            ma.pair_friction(mb)
+        } else {
+            0.0
+        };
+        self.restitution = if settings.restitution {
+            ma.pair_restitution(mb)
+        } else {
+            0.0
+        };
+        self.rolling_arm = rr;
+        self.rolling_mass = rolling_mass;
+        self.rolling_impulse = if rr > 0.0 {
+            m.rolling_impulse
+        } else {
+            V3::zeros()
+        };
+        self.against_static = ima == 0.0 || imb == 0.0;
+        self.softness = Softness::rigid(0.0);
+        self.len = m.len;
+        self.impulse_substep = m.impulse_substep;
+        self.round_radius = radius;
+        self.centre = centre;
+        self.follows = radius[0] > 0.0 || radius[1] > 0.0;
     }
 
     /// Point `k`'s angular Jacobians and normal row now. Unless the constraint
@@ -551,17 +595,18 @@ impl ContactConstraint {
     }
 
     /// The overlap (m) at which this contact's most loaded point settles under the load it
-    /// carries, at stiffness `omega` (rad/s): its carried normal impulse `λ`, accumulated over
-    /// a substep of `impulse_substep` (s), is the force `λ / h`, and a soft row of effective
+    /// carried, at stiffness `omega` (rad/s): its carried normal impulse `λ`, accumulated over
+    /// the manifold's `impulse_substep` (s), is the force `λ / h`, and a soft row of effective
     /// mass `m` at rest under a force `F` overlaps by `F / (m ω²)` (see [`Softness::new`]).
-    pub(crate) fn resting_overlap(&self, omega: f64, impulse_substep: f64) -> f64 {
-        if impulse_substep <= 0.0 || omega <= 0.0 {
+    pub(crate) fn resting_overlap(&self, omega: f64) -> f64 {
+        let h = self.impulse_substep;
+        if h <= 0.0 || omega <= 0.0 {
             return 0.0;
         }
         self.points[..self.len]
             .iter()
             .filter(|p| p.n.mass > 0.0 && p.normal_impulse > 0.0)
-            .map(|p| p.normal_impulse / impulse_substep / (p.n.mass * omega * omega))
+            .map(|p| p.normal_impulse / h / (p.n.mass * omega * omega))
             .fold(0.0, f64::max)
     }
 
@@ -599,6 +644,7 @@ impl ContactConstraint {
         p.tangent_impulse = [p.tangent_impulse[0] * f, p.tangent_impulse[1] * f];
         p.twist_impulse *= f;
         self.rolling_impulse *= f;
+        self.impulse_substep *= f;
     }
 
     /// Ratio of the heavier to the lighter moving body (1 against a body that does not move).
