@@ -105,7 +105,12 @@ impl RestingSubsteps {
             return n;
         }
         self.rested += world.loads.dt;
-        if self.rested < RESTING_TIME || !self.gather(bodies, constraints, world.loads.up) {
+        // A column found by the last step's plan still stands (columns rarely part at rest):
+        // the step's substeps, without looking further.
+        if self.rested < RESTING_TIME
+            || islands.stacked()
+            || !self.gather(bodies, constraints, world.loads.up)
+        {
             return n;
         }
         let mut chosen = n;
