@@ -277,7 +277,7 @@ mod api {
     use super::scene_order::*;
     use virtual_physics::dynamics::DynamicsError;
     use virtual_physics::geometry::{Shape, V3};
-    use virtual_physics::pipeline::{BodyBuilder, World};
+    use virtual_physics::pipeline::{BodyBuilder, Effect, World};
 
     /// A ground and a resting unit cube, stepped once (so the first bodies are checked).
     fn world() -> World {
@@ -429,6 +429,41 @@ mod api {
         let mut w = world();
         body_at_mut(&mut w, 0).set_linear_velocity(V3::new(0.0, 0.0, f64::NAN));
         refused(&mut w, 0, "velocity");
+    }
+
+    /// The world of [`world`], with sleeping, once its cube sleeps: its steps only advance
+    /// the clock.
+    fn asleep() -> World {
+        let mut s = virtual_physics::scene::builtin::towers(1, 1, 1);
+        s.effects.retain(|e| *e != Effect::Sleeping);
+        s.effects.push(Effect::Sleeping);
+        let mut w = s.build().unwrap();
+        for _ in 0..600 {
+            w.step().unwrap();
+            if !body_at(&w, 1).is_awake() {
+                return w;
+            }
+        }
+        panic!("the resting cube never fell asleep in 10 s");
+    }
+
+    /// An all-asleep world's step checks less and keeps no snapshot, yet refuses what the
+    /// full step refuses.
+    #[test]
+    fn an_all_asleep_world_still_refuses_bad_state() {
+        let mut w = asleep();
+        let (before, t) = (state(&w), w.time());
+        w.step().unwrap();
+        assert_eq!(w.time(), t + 1.0 / 60.0);
+        assert_eq!(state(&w)[1..], before[1..], "only the clock moves");
+        // The fixed ground cannot wake: its state is checked all the same.
+        let p = body_at(&w, 0).position();
+        body_at_mut(&mut w, 0).set_position(V3::new(p.x, p.y, 1e300));
+        refused(&mut w, 0, "position");
+        // A sleeping body set to NaN wakes, and the full check names it.
+        let mut w = asleep();
+        body_at_mut(&mut w, 1).set_linear_velocity(V3::new(f64::NAN, 0.0, 0.0));
+        refused(&mut w, 1, "velocity");
     }
 
     #[test]

@@ -18,6 +18,11 @@
 //!   the same contacts and solves them from zero impulses. The counters describe the failed
 //!   step.
 //!
+//! A step that can only advance the clock (sleeping on, every body asleep, no kinematic body
+//! moving, no tree, no body added) checks only the kinematic and fixed bodies' state, the
+//! others' having passed when they last moved, and takes no snapshot: the all-asleep step
+//! costs a pass over the bodies' flags.
+//!
 //! A property of a body that already passed (mass, inertia, shape) changed later through
 //! the public fields is not checked again; if it makes the state non-finite, the check
 //! after the step catches it.
@@ -57,6 +62,8 @@ pub(crate) struct StepGuard {
     trees: Vec<f64>,
     joints: Vec<FreeJoint>,
     time: f64,
+    /// Whether the step in progress can only advance the clock (no snapshot taken).
+    clock_only: bool,
 }
 
 impl StepGuard {
@@ -128,12 +135,53 @@ impl World {
             }
         }
         let n = self.bodies.len();
+        let clock_only = self.guard.checked == n && self.only_the_clock_moves();
         let checked = self.guard.checked.min(n);
         for i in checked..n {
             self.check_new_body(i)?;
         }
         self.guard.checked = n;
+        self.guard.clock_only = clock_only;
+        self.guard.time = self.time;
+        if clock_only {
+            // A sleeping body's state changes only through the setters, which wake it: only
+            // the kinematic and fixed bodies can have changed since the last full check.
+            return (0..n)
+                .filter(|&i| self.bodies.kind[i] != BodyKind::Dynamic)
+                .try_for_each(|i| self.check_body_state(i));
+        }
         self.check_state_and_snapshot()
+    }
+
+    /// Whether the step can only advance the clock: sleeping is on, no body is awake, no
+    /// kinematic body moves and there is no articulated tree (the step's own test for an
+    /// empty step, `World::step_unguarded`), and no body was added since the last step.
+    fn only_the_clock_moves(&self) -> bool {
+        self.islands.is_some()
+            && self.articulated.is_empty()
+            && self.bodies.awake.iter().all(|a| !a)
+            && !self.kinematic_moving()
+    }
+
+    /// Body `i`'s pose and velocity finite and not huge.
+    fn check_body_state(&self, i: usize) -> Result<(), DynamicsError> {
+        let b = &self.bodies;
+        let p = max_abs(&b.pos[i]);
+        if !at_most(p, MAX_COORD_M) {
+            return Err(self.body_error(i, "position", "finite, within ±1e9 m", p));
+        }
+        if !b.rot[i].iter().all(|x| x.is_finite()) {
+            return Err(self.body_error(i, "rotation", "finite", f64::NAN));
+        }
+        let v = b.vel[i].norm();
+        if !at_most(v, MAX_SPEED_M_S) {
+            return Err(self.body_error(i, "velocity", "finite, at most 1e6 m/s", v));
+        }
+        let w = b.omega[i].norm();
+        if !at_most(w, MAX_ANGULAR_SPEED_RAD_S) {
+            return Err(self.body_error(i, "angular velocity", "finite, at most 1e6 rad/s", w));
+        }
+        Ok(())
     }
 
     fn body_error(
@@ -211,24 +259,10 @@ impl World {
 
     /// Every body's and tree's state finite and not huge, copied into the snapshot.
     fn check_state_and_snapshot(&mut self) -> Result<(), DynamicsError> {
-        let b = &self.bodies;
-        for i in 0..b.len() {
-            let p = max_abs(&b.pos[i]);
-            if !at_most(p, MAX_COORD_M) {
-                return Err(self.body_error(i, "position", "finite, within ±1e9 m", p));
-            }
-            if !b.rot[i].iter().all(|x| x.is_finite()) {
-                return Err(self.body_error(i, "rotation", "finite", f64::NAN));
-            }
-            let v = b.vel[i].norm();
-            if !at_most(v, MAX_SPEED_M_S) {
-                return Err(self.body_error(i, "velocity", "finite, at most 1e6 m/s", v));
-            }
-            let w = b.omega[i].norm();
-            if !at_most(w, MAX_ANGULAR_SPEED_RAD_S) {
-                return Err(self.body_error(i, "angular velocity", "finite, at most 1e6 rad/s", w));
-            }
+        for i in 0..self.bodies.len() {
+            self.check_body_state(i)?;
         }
+        let b = &self.bodies;
         for (t, a) in self.articulated.iter().enumerate() {
             for (what, values) in [("q", &a.q), ("qd", &a.qd), ("tau", &a.tau)] {
                 if let Some((index, &value)) = values
@@ -260,7 +294,6 @@ impl World {
             g.trees.extend_from_slice(&a.qd);
         }
         g.joints.clone_from(&self.joints);
-        g.time = self.time;
         Ok(())
     }
 
@@ -270,6 +303,10 @@ impl World {
         &mut self,
         result: Result<(), DynamicsError>,
     ) -> Result<(), DynamicsError> {
+        if self.guard.clock_only {
+            // Nothing but the clock moved (nor was snapshotted): only it goes back.
+            return result.inspect_err(|_| self.time = self.guard.time);
+        }
         let error = match result {
             Err(e) => Some(e),
             Ok(()) => self.non_finite(),
