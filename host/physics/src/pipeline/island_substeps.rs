@@ -123,6 +123,33 @@ pub(crate) struct StepLoads<'a> {
     pub dt: f64,
 }
 
+/// What a step's loads are read from: the world's manifolds, its joints' body pairs and its
+/// tree-link proxies.
+pub(crate) type LoadSources<'a> = (&'a [Manifold], &'a [(usize, usize)], &'a [Option<Proxy>]);
+
+impl<'a> StepLoads<'a> {
+    /// The loads of a step under `gravity` (m/s², world, not zero) at the contacts' stiffness
+    /// `stiffness`: the world's manifolds, its joints' body pairs and its tree-link proxies.
+    pub(crate) fn new(
+        stiffness: &'a ContactStiffness,
+        gravity: &V3,
+        world: LoadSources<'a>,
+        dt: f64,
+    ) -> Self {
+        let g = gravity.norm();
+        let (manifolds, joint_pairs, proxies) = world;
+        Self {
+            stiffness,
+            up: -gravity / g,
+            gravity: g,
+            manifolds,
+            joint_pairs,
+            proxies,
+            dt,
+        }
+    }
+}
+
 impl IslandSubsteps {
     /// Whether, at the last [`IslandSubsteps::leans`], a moving body stood alone on another
     /// (a column of two or more bodies).

@@ -10,7 +10,7 @@ use crate::dynamics::solver::{
     JointSoftness, Softness, SolvePass,
 };
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
-use crate::geometry::{BodyMotion, BroadPhase, NarrowPhase, V3};
+use crate::geometry::{BodyMotion, BroadPhase, Manifold, NarrowPhase, V3};
 
 #[path = "ccd.rs"]
 mod ccd;
@@ -710,9 +710,12 @@ impl World {
         self.sync_link_proxies(false);
         if let Some(islands) = self.islands.as_mut() {
             self.counters.mark(Stage::Islands);
-            let manifolds = self.narrow.as_ref().map_or(&[][..], |n| &n.manifolds[..]);
-            self.counters.islands =
-                islands.update(&mut self.bodies, manifolds, &self.joint_pairs, dt);
+            self.counters.islands = islands.update(
+                &mut self.bodies,
+                manifolds(&self.narrow),
+                &self.joint_pairs,
+                dt,
+            );
         }
         self.time += dt;
         Ok(())
@@ -830,16 +833,14 @@ impl World {
             || !self.articulated.is_empty()
             || !self.tree_contacts.contacts.is_empty()
             || self.kinematic_moving();
+        let stiffness = self.settings.contact_stiffness(self.dt / n_sub as f64);
         let world = RestingWorld {
-            loads: StepLoads {
-                stiffness: &self.settings.contact_stiffness(self.dt / n_sub as f64),
-                up: -self.gravity / g,
-                gravity: g,
-                manifolds: self.narrow.as_ref().map_or(&[][..], |n| &n.manifolds[..]),
-                joint_pairs: &self.joint_pairs,
-                proxies: &self.proxies,
-                dt: self.dt,
-            },
+            loads: StepLoads::new(
+                &stiffness,
+                &self.gravity,
+                (manifolds(&self.narrow), &self.joint_pairs, &self.proxies),
+                self.dt,
+            ),
             more_than_contacts,
             substeps: n_sub,
         };
@@ -863,15 +864,12 @@ impl World {
         if !loaded {
             return;
         }
-        let loads = StepLoads {
-            stiffness,
-            up: -self.gravity / g,
-            gravity: g,
-            manifolds: self.narrow.as_ref().map_or(&[][..], |n| &n.manifolds[..]),
-            joint_pairs: &self.joint_pairs,
-            proxies: &self.proxies,
-            dt: self.dt,
-        };
+        let sources = (
+            manifolds(&self.narrow),
+            &self.joint_pairs[..],
+            &self.proxies[..],
+        );
+        let loads = StepLoads::new(stiffness, &self.gravity, sources, self.dt);
         let factor = self
             .island_substeps
             .plan(&self.bodies, &self.constraints, &loads);
@@ -1028,4 +1026,9 @@ impl World {
     pub(crate) fn body_index(&self, name: &str) -> Option<usize> {
         self.bodies.name.iter().position(|n| n == name)
     }
+}
+
+/// The narrow phase's manifolds (none without collision).
+fn manifolds(narrow: &Option<NarrowPhase>) -> &[Manifold] {
+    narrow.as_ref().map_or(&[][..], |n| &n.manifolds[..])
 }
