@@ -83,7 +83,7 @@ pub(crate) struct RestingWorld<'a> {
 }
 
 impl RestingSubsteps {
-    /// Forgets how long the world has rested (its bodies changed).
+    /// Forgets how long the world has rested (while it may not take fewer substeps).
     pub(crate) fn forget(&mut self) {
         self.rested = 0.0;
     }
