@@ -191,6 +191,7 @@ pub struct World {
     batched: bool,
     /// Islands whose contacts would lean take extra substeps (`island_substeps.rs`).
     island_substeps: IslandSubsteps,
+    /// A world at rest takes fewer substeps (`resting_substeps.rs`).
     resting_substeps: RestingSubsteps,
     /// Substeps of those islands per substep of the step (1: none this step).
     fine_factor: usize,
