@@ -1,8 +1,8 @@
 //! A resting world takes fewer substeps only where its contacts hold it as well on them
 //! (`pipeline/resting_substeps.rs`).
 
-use virtual_physics::geometry::V3;
-use virtual_physics::pipeline::{Effect, World};
+use virtual_physics::geometry::{Shape, V3};
+use virtual_physics::pipeline::{BodyBuilder, Effect, World};
 use virtual_physics::scene::builtin::{pyramid, towers};
 use virtual_physics::scene::SceneFile;
 
@@ -67,6 +67,26 @@ fn a_moving_body_brings_the_substeps_back_at_once() {
         .unwrap()
         .set_linear_velocity(V3::new(0.0, 0.0, 1.0));
     assert_eq!(steps(&mut w, 1), [12]);
+}
+
+/// A box added beside the resting pyramid, at rest on the ground: its contact carries no load
+/// yet, so the world counts its rest afresh and takes the full substeps meanwhile.
+#[test]
+fn an_added_body_counts_the_rest_afresh() {
+    let mut w = awake(pyramid(5));
+    let taken = steps(&mut w, 60);
+    assert_eq!(taken.last(), Some(&4), "{taken:?}");
+    w.insert_body(
+        BodyBuilder::dynamic(Shape::Cuboid {
+            half: V3::repeat(0.5),
+        })
+        .mass(1.0)
+        .position(V3::new(10.0, 0.0, 0.5)),
+    );
+    let taken = steps(&mut w, 60);
+    // Half a second at 1/60 s is 30 steps of rest.
+    assert!(taken[..29].iter().all(|&n| n == 12), "{taken:?}");
+    assert_eq!(taken.last(), Some(&4), "{taken:?}");
 }
 
 /// Switched off, every step takes the settings' substeps.

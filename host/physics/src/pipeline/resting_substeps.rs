@@ -11,12 +11,17 @@
 //!
 //! [`RestingSubsteps::substeps`] predicts both from the loads the contacts carried in the last
 //! step, at the stiffness of half and of a third of the step's substeps, and gives the world
-//! the fewer substeps where the sink stays within [`SINK_TOLERANCE`] and no column leans
-//! beyond [`LEAN_TOLERANCE`]. Only a world that has rested for [`RESTING_TIME`] takes them:
-//! every awake dynamic body below the sleep speeds, no joint, no articulated tree, no moving
-//! kinematic body, no contact between moving bodies [`UNEVEN_MASS_RATIO`] times apart and
-//! none that follows a round part's turn. The first step in which any of that changes takes
-//! the step's substeps again.
+//! the fewer substeps where the sink stays within [`SINK_TOLERANCE`], no column leans beyond
+//! [`LEAN_TOLERANCE`] and no moving body stands alone on another: a column rocks on its single
+//! contact, so a plain stack of boxes keeps the step's substeps, and only piles whose bodies
+//! each rest on two or more contacts (a pyramid, a wall in bond) take fewer. Only a world that
+//! has rested for [`RESTING_TIME`] takes them: every awake dynamic body below the sleep
+//! speeds, no joint, no articulated tree, no moving kinematic body, no contact between moving
+//! bodies [`UNEVEN_MASS_RATIO`] times apart and none that follows a round part's turn. The
+//! first step in which any of that changes, and the step after a body is added, removed or
+//! set through the world's API (whose new contacts carry no load yet), counts the rest afresh
+//! and takes the step's substeps. (A contact that appears in a pile at rest, as a side face
+//! comes within the speculative distance, carries no load either, and needs none.)
 
 use super::island_substeps::{IslandSubsteps, StepLoads, LEAN_TOLERANCE};
 use crate::dynamics::solver::contact_constraint::LINEAR_SLOP;
@@ -107,10 +112,10 @@ impl RestingSubsteps {
         self.rested += world.loads.dt;
         // A column found by the last step's plan still stands (columns rarely part at rest):
         // the step's substeps, without looking further.
-        if self.rested < RESTING_TIME
-            || islands.stacked()
-            || !self.gather(bodies, constraints, world.loads.up)
-        {
+        if self.rested < RESTING_TIME || islands.stacked() {
+            return n;
+        }
+        if !self.gather(bodies, constraints, world.loads.up) {
             return n;
         }
         let mut chosen = n;
@@ -172,7 +177,10 @@ impl RestingSubsteps {
                 self.supports.push(l);
             }
         }
-        // A body's supports lie below it, so theirs come first.
+        // A body's supports lie below it, so theirs come first. (Sorted by the centres of the
+        // bodies on top: a wide body tilted near 45° may have its centre above that of a body
+        // resting on it, whose sink then misses that body's share, an underestimate no resting
+        // pile of boxes makes.)
         self.supports
             .sort_unstable_by(|x, y| x.height.total_cmp(&y.height));
         true

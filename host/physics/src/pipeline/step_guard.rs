@@ -385,6 +385,8 @@ impl World {
         }
         self.joints.clone_from(&g.joints);
         self.time = g.time;
+        // The failed step's rest does not count.
+        self.resting_substeps.forget();
         if let Some(narrow) = self.narrow.as_mut() {
             narrow.clear();
         }

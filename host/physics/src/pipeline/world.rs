@@ -97,8 +97,9 @@ pub struct SolverSettings {
     pub angular_damping: f64,
     /// Let a world whose free bodies all rest take half or a third of `substeps` when its
     /// contacts, at the stiffness of those fewer substeps, hold it within 5 mm of sink and
-    /// 1 mm of lean (`pipeline/resting_substeps.rs`; default). Off, every step takes
-    /// `substeps`, as a sweep over them needs.
+    /// 1 mm of lean, and no body stands alone on another (a column keeps `substeps`: it would
+    /// rock on its single contact) (`pipeline/resting_substeps.rs`; default). Off, every step
+    /// takes `substeps`, as a sweep over them needs.
     pub fewer_substeps_at_rest: bool,
     /// Solve the contacts four at a time (`ContactBatches`: graph colouring, one constraint
     /// per lane); false solves them one by one in manifold order (the same rows, another
@@ -511,6 +512,9 @@ impl World {
             }
         }
 
+        // Decided once the contacts are known. What ran before with the step's own substep
+        // does not run at rest: joints and trees keep the step's substeps, and continuous
+        // collision's sweep margin (`½ |v| |ω| h dt`) is nil for bodies at rest.
         let fewer = self.substeps_at_rest(n_sub, coupled);
         if fewer < n_sub {
             n_sub = fewer;
@@ -536,7 +540,7 @@ impl World {
             for c in &mut self.constraints {
                 c.stiffen(&stiffness);
             }
-            self.plan_island_substeps(&stiffness);
+            self.plan_island_substeps(&stiffness, n_sub);
         } else {
             for c in &mut self.constraints {
                 c.set_softness(soft);
@@ -858,8 +862,8 @@ impl World {
 
     /// Decides which islands need stiffer contacts this step ([`IslandSubsteps::plan`]),
     /// stiffens them, and gives them the extra substeps that keep them within the stiffness
-    /// cap; marks the constraints that take those substeps.
-    fn plan_island_substeps(&mut self, stiffness: &ContactStiffness) {
+    /// cap; marks the constraints that take those substeps. `n_sub` is the step's substeps.
+    fn plan_island_substeps(&mut self, stiffness: &ContactStiffness, n_sub: usize) {
         let g = self.gravity.norm();
         let loaded = self.effects.has(Effect::Gravity) && !self.constraints.is_empty() && g > 0.0;
         if !loaded {
@@ -904,7 +908,7 @@ impl World {
         }
         self.fine_factor = substeps;
         if substeps > 1 {
-            self.counters.fine_substeps = self.settings.substeps.max(1) * substeps;
+            self.counters.fine_substeps = n_sub * substeps;
         }
         self.counters.fine_bodies = self.island_substeps.fine.iter().filter(|&&k| k > 1).count();
     }

@@ -200,9 +200,12 @@ impl World {
     }
 
     /// The body `h` to set its state, or `None` when it was removed. A tree link's proxy
-    /// body is posed by its tree: what is set on it is overwritten at the next step.
+    /// body is posed by its tree: what is set on it is overwritten at the next step. The
+    /// world counts its rest afresh (a body set in motion, pushed or moved takes the step's
+    /// substeps until everything has rested again).
     pub fn body_mut(&mut self, h: BodyHandle) -> Option<BodyMut<'_>> {
         let i = self.body_slots.index(h)?;
+        self.resting_substeps.forget();
         Some(BodyMut {
             set: &mut self.bodies,
             i,
@@ -233,6 +236,7 @@ impl World {
             b.angular_velocity,
         );
         self.broad_dirty = true;
+        self.resting_substeps.forget();
         self.body_slots.insert()
     }
 
@@ -281,6 +285,7 @@ impl World {
         self.rebuild_excluded_pairs();
         // The factors islands hold belong to bodies by index: start them afresh.
         self.island_substeps.forget_held();
+        self.resting_substeps.forget();
         self.guard.recheck_all();
         self.broad_dirty = true;
         true
