@@ -78,7 +78,8 @@ struct Load {
 
 /// What the world tells the decision about itself.
 pub(crate) struct RestingWorld<'a> {
-    /// The loads of the step at its own substeps.
+    /// The step's loads (at its own substeps' stiffness; each candidate replaces it with its
+    /// own).
     pub loads: StepLoads<'a>,
     /// Whether anything but free bodies in contact is stepped: joints, articulated trees,
     /// a moving kinematic body.

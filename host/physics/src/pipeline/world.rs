@@ -475,15 +475,14 @@ impl World {
                     prepared += 1;
                 }
             }
-            self.constraints.truncate(prepared);
-            if !self.constraints.is_empty() {
+            if prepared > 0 {
                 self.counters.mark(Stage::ContactSolve);
                 if settings.rolling {
                     self.counters.mark(Stage::RollingResistance);
                 }
             }
         }
-        // Without collision, none.
+        // Last step's constraints beyond this step's (all of them without collision).
         self.constraints.truncate(prepared);
         let joints_on = eff.has(Effect::Joints) && !self.joints.is_empty();
         if joints_on {
