@@ -116,9 +116,13 @@ enum Cmd {
         #[arg(long)]
         relax_last_only: bool,
         /// Take the scene's substeps in every step, also once the world rests (by default a
-        /// resting world whose contacts allow takes half or a third of them).
+        /// resting world whose contacts allow takes a half, a third, a quarter or a sixth of them).
         #[arg(long)]
         fixed_substeps: bool,
+        /// Warm start the contacts from their impulses in every substep, instead of adding
+        /// back each body's change of velocity from the substep before.
+        #[arg(long)]
+        contact_warm_start: bool,
     },
     /// Cost of each effect added to a base scene, and of the same effect undeclared.
     Effects {
@@ -243,6 +247,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             hertz_cap,
             relax_last_only,
             fixed_substeps,
+            contact_warm_start,
         } => run::bench(
             &scene,
             steps,
@@ -255,6 +260,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 hertz_cap,
                 relax_last_only,
                 fixed_substeps,
+                contact_warm_start,
             },
         ),
     }

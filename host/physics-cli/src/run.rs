@@ -194,6 +194,8 @@ pub struct SolverOverrides {
     pub relax_last_only: bool,
     /// The scene's substeps in every step, also at rest.
     pub fixed_substeps: bool,
+    /// The contacts' own warm start in every substep (no per-body replay).
+    pub contact_warm_start: bool,
 }
 
 /// `vphys bench`: ms per step and the drift of the boxes, as one JSON object.
@@ -227,6 +229,9 @@ pub fn bench(
     if overrides.fixed_substeps {
         w.settings_mut().fewer_substeps_at_rest = false;
     }
+    if overrides.contact_warm_start {
+        w.settings_mut().replay_warm_start = false;
+    }
     if let Some(cap) = overrides.hertz_cap {
         anyhow::ensure!(
             cap.is_finite() && cap > 0.0,
@@ -256,6 +261,7 @@ pub fn bench(
         "mean_contact_points": points, "ns_per_contact_point_substep": ns_per_point_substep,
         "substeps": substeps, "mean_substeps_taken": taken,
         "fewer_substeps_at_rest": w.settings().fewer_substeps_at_rest,
+        "replay_warm_start": w.settings().replay_warm_start,
         "contact_hertz": w.settings().contact_hertz,
         "soft_contacts": w.settings().soft_contacts,
         "batch_contacts": w.settings().batch_contacts,

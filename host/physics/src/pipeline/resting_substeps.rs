@@ -10,8 +10,8 @@
 //! ([`IslandSubsteps::leans`]).
 //!
 //! [`RestingSubsteps::substeps`] predicts both from the loads the contacts carried in the last
-//! step, at the stiffness of half and of a third of the step's substeps, and gives the world
-//! the fewer substeps where the sink stays within [`SINK_TOLERANCE`], no column leans beyond
+//! step, at the stiffness of a half, a third, a quarter and a sixth of the step's substeps, and
+//! gives the world the fewest substeps where the sink stays within [`SINK_TOLERANCE`], no column leans beyond
 //! [`LEAN_TOLERANCE`] and no moving body stands alone on another: a column rocks on its single
 //! contact, so a plain stack of boxes keeps the step's substeps, and only piles whose bodies
 //! each rest on two or more contacts (a pyramid, a wall in bond) take fewer. Only a world that
@@ -44,7 +44,7 @@ pub const RESTING_TIME: f64 = TIME_TO_SLEEP;
 const SUPPORT_COSINE: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
 /// The divisors of the step's substeps tried, the least demanding first.
-const DIVISORS: [usize; 2] = [2, 3];
+const DIVISORS: [usize; 4] = [2, 3, 4, 6];
 
 /// The decision's state, kept between steps.
 #[derive(Clone, Debug, Default)]

@@ -26,6 +26,10 @@ use island_substeps::{IslandSubsteps, StepLoads};
 mod resting_substeps;
 use resting_substeps::{RestingSubsteps, RestingWorld};
 
+#[path = "warm_start_replay.rs"]
+mod warm_start_replay;
+use warm_start_replay::WarmStartReplay;
+
 #[path = "link_proxies.rs"]
 mod link_proxies;
 
@@ -95,16 +99,23 @@ pub struct SolverSettings {
     pub linear_damping: f64,
     /// Angular damping rate (1/s), with the `damping` effect.
     pub angular_damping: f64,
-    /// Let a world whose free bodies all rest take half or a third of `substeps` when its
-    /// contacts, at the stiffness of those fewer substeps, hold it within 5 mm of sink and
-    /// 1 mm of lean, and no body stands alone on another (a column keeps `substeps`: it would
-    /// rock on its single contact) (`pipeline/resting_substeps.rs`; default). Off, every step
-    /// takes `substeps`, as a sweep over them needs.
+    /// Let a world whose free bodies all rest take a half, a third, a quarter or a sixth of
+    /// `substeps` (the fewest that hold) when its contacts, at the stiffness of those fewer
+    /// substeps, hold it within 5 mm of sink and 1 mm of lean, and no body stands alone on
+    /// another (a column keeps `substeps`: it would rock on its single contact)
+    /// (`pipeline/resting_substeps.rs`; default). Off, every step takes `substeps`, as a sweep
+    /// over them needs.
     pub fewer_substeps_at_rest: bool,
     /// Solve the contacts four at a time (`ContactBatches`: graph colouring, one constraint
     /// per lane); false solves them one by one in manifold order (the same rows, another
     /// Gauss–Seidel order).
     pub batch_contacts: bool,
+    /// From a step's second substep on, warm start the contacts by adding back each body's
+    /// change of velocity from the contacts over the substep before, where only contacts
+    /// change the free bodies' velocities in the solve (no joints or articulated trees; the
+    /// semi-implicit Euler integrators): the same impulses up to rounding, for a pass over
+    /// the bodies instead of one over the contacts (`pipeline/warm_start_replay.rs`; default).
+    pub replay_warm_start: bool,
 }
 
 impl SolverSettings {
@@ -153,6 +164,7 @@ impl Default for SolverSettings {
             angular_damping: 0.0,
             batch_contacts: true,
             fewer_substeps_at_rest: true,
+            replay_warm_start: true,
         }
     }
 }
@@ -200,6 +212,8 @@ pub struct World {
     fine_constraint: Vec<bool>,
     /// The contacts of those islands, coloured and grouped.
     fine_batches: ContactBatches,
+    /// The contacts' change of each body's velocity over the last substep.
+    warm_start_replay: WarmStartReplay,
     /// The bodies' `awake` flags, kept while the extra substeps move only their islands.
     awake_saved: Vec<bool>,
     /// Checks before and after each step, and the snapshot a failed step is rolled back to.
@@ -265,6 +279,7 @@ impl World {
             fine_constraint: Vec::new(),
             fine_batches: ContactBatches::default(),
             awake_saved: Vec::new(),
+            warm_start_replay: WarmStartReplay::default(),
             guard: step_guard::StepGuard::default(),
             proxies: Vec::new(),
             tree_contacts: TreeContacts::default(),
@@ -385,6 +400,8 @@ impl World {
             }
         }
         let mut prepared = 0;
+        // Whether a contact follows a round part's turn: its rows change within the step.
+        let mut follows = false;
         self.tree_contacts.clear();
         if let (Some(broad), Some(narrow)) = (self.broad.as_mut(), self.narrow.as_mut()) {
             let ccd = eff.has(Effect::ContinuousCollision);
@@ -463,15 +480,22 @@ impl World {
                     }
                 } else if self.bodies.awake[a] || self.bodies.awake[b] {
                     // The last step's constraints are rewritten in place.
-                    match self.constraints.get_mut(prepared) {
-                        Some(c) => c.prepare_in(&self.bodies, m, mi, &settings),
-                        None => self.constraints.push(ContactConstraint::prepare(
-                            &self.bodies,
-                            m,
-                            mi,
-                            &settings,
-                        )),
-                    }
+                    let c = match self.constraints.get_mut(prepared) {
+                        Some(c) => {
+                            c.prepare_in(&self.bodies, m, mi, &settings);
+                            c
+                        }
+                        None => {
+                            self.constraints.push(ContactConstraint::prepare(
+                                &self.bodies,
+                                m,
+                                mi,
+                                &settings,
+                            ));
+                            &self.constraints[prepared]
+                        }
+                    };
+                    follows |= c.follows_turn();
                     prepared += 1;
                 }
             }
@@ -594,6 +618,19 @@ impl World {
                 *awake &= k == 1;
             }
         }
+        // Only the contacts change the free bodies' velocities in the solve, through rows
+        // fixed for the step, and the pose stage leaves the velocities alone: the contacts'
+        // warm start can be replayed per body.
+        let replay = self.settings.replay_warm_start
+            && !self.constraints.is_empty()
+            && !follows
+            && !joints_on
+            && !coupled
+            && self.tree_contacts.contacts.is_empty()
+            && matches!(
+                self.integrator(),
+                IntegratorKind::SymplecticEuler | IntegratorKind::ImplicitGyroscopic
+            );
         for sub in 0..n_sub {
             self.integrator
                 .integrate_velocities(&mut self.bodies, h, &forces);
@@ -607,7 +644,14 @@ impl World {
                     }
                 }
             }
-            self.warm_start_contacts();
+            if replay && sub > 0 {
+                self.warm_start_replay.replay(&mut self.bodies);
+            } else {
+                if replay {
+                    self.warm_start_replay.mark(&self.bodies);
+                }
+                self.warm_start_contacts();
+            }
             self.tree_contacts
                 .warm_start(&mut self.bodies, &mut self.articulated);
             if joints_on {
@@ -660,6 +704,9 @@ impl World {
                     relax,
                 );
                 self.counters.solver_iterations += 1;
+            }
+            if replay && sub + 1 < n_sub {
+                self.warm_start_replay.record(&self.bodies);
             }
             if coupled {
                 for a in self.articulated.iter_mut() {
