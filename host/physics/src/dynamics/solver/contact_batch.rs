@@ -11,11 +11,12 @@
 //! (`ContactConstraint::follows`), and those no colour can take, stay scalar: the caller
 //! solves [`ContactBatches::scalar`] with [`ContactConstraint::solve`] in the same pass.
 //!
-//! On x86-64 the same code also runs compiled for AVX2 when the processor has it (detected
-//! once); both copies compute the same bits (no fused multiply–add is ever formed).
+//! On x86-64 the same code also runs compiled for AVX2, or for AVX-512 (its 32 registers for
+//! the same four lanes), when the processor has it ([`KernelIsa`], detected once); every copy
+//! computes the same bits (no fused multiply–add is ever formed).
 
 use super::contact_constraint::{PatchFriction, PointConstraint, Row, LINEAR_SLOP};
-use super::lanes::{LaneV3, Lanes, WIDTH};
+use super::lanes::{KernelIsa, LaneV3, Lanes, WIDTH};
 use super::{ContactConstraint, Softness, SolvePass};
 use crate::dynamics::BodySet;
 use crate::geometry::{MAX_MANIFOLD_POINTS, V3};
@@ -356,9 +357,8 @@ pub struct ContactBatches {
     members: Vec<Vec<usize>>,
     /// Per constraint: its group times [`WIDTH`] plus its lane ([`NO_SLOT`]: none).
     slot: Vec<u32>,
-    /// Whether the processor has AVX2 (asked once).
-    #[cfg(target_arch = "x86_64")]
-    avx2: Option<bool>,
+    /// The instruction set of the passes (asked once).
+    isa: Option<KernelIsa>,
 }
 
 impl ContactBatches {
@@ -455,33 +455,27 @@ impl ContactBatches {
         self.live
     }
 
-    #[cfg(target_arch = "x86_64")]
-    fn use_avx2(&mut self) -> bool {
-        *self
-            .avx2
-            .get_or_insert_with(|| std::arch::is_x86_feature_detected!("avx2"))
+    fn isa(&mut self) -> KernelIsa {
+        *self.isa.get_or_insert_with(KernelIsa::detect)
     }
 
     /// Applies every group's accumulated impulses (warm start).
     pub fn warm_start(&mut self, bodies: &mut BodySet) {
-        #[cfg(target_arch = "x86_64")]
-        if self.use_avx2() {
-            // SAFETY: the processor has AVX2 (checked by `use_avx2`).
-            unsafe { warm_start_avx2(&self.groups[..self.live], bodies) };
-            return;
-        }
-        warm_start_all(&self.groups[..self.live], bodies);
+        let isa = self.isa();
+        warm_start_on(isa, &self.groups[..self.live], bodies);
     }
 
     /// One pass over the groups (see [`ContactConstraint::solve`]).
     pub fn solve(&mut self, bodies: &mut BodySet, inv_h: f64, max_push: f64, pass: SolvePass) {
-        #[cfg(target_arch = "x86_64")]
-        if self.use_avx2() {
-            // SAFETY: the processor has AVX2 (checked by `use_avx2`).
-            unsafe { solve_avx2(&mut self.groups[..self.live], bodies, inv_h, max_push, pass) };
-            return;
-        }
-        solve_all(&mut self.groups[..self.live], bodies, inv_h, max_push, pass);
+        let isa = self.isa();
+        solve_on(
+            isa,
+            &mut self.groups[..self.live],
+            bodies,
+            inv_h,
+            max_push,
+            pass,
+        );
     }
 
     /// Copies the accumulated impulses back into `constraints` (before restitution and the
@@ -490,6 +484,39 @@ impl ContactBatches {
         for g in &self.groups[..self.live] {
             g.write_back(constraints);
         }
+    }
+}
+
+/// The warm start compiled for `isa`, which the processor must run.
+fn warm_start_on(isa: KernelIsa, groups: &[ContactGroup], bodies: &mut BodySet) {
+    match isa {
+        // SAFETY: the processor has the instructions (`KernelIsa::detect`).
+        #[cfg(target_arch = "x86_64")]
+        KernelIsa::Avx512 => unsafe { warm_start_avx512(groups, bodies) },
+        // SAFETY: as above.
+        #[cfg(target_arch = "x86_64")]
+        KernelIsa::Avx2 => unsafe { warm_start_avx2(groups, bodies) },
+        KernelIsa::Baseline => warm_start_all(groups, bodies),
+    }
+}
+
+/// The solve pass compiled for `isa`, which the processor must run.
+fn solve_on(
+    isa: KernelIsa,
+    groups: &mut [ContactGroup],
+    bodies: &mut BodySet,
+    inv_h: f64,
+    max_push: f64,
+    pass: SolvePass,
+) {
+    match isa {
+        // SAFETY: the processor has the instructions (`KernelIsa::detect`).
+        #[cfg(target_arch = "x86_64")]
+        KernelIsa::Avx512 => unsafe { solve_avx512(groups, bodies, inv_h, max_push, pass) },
+        // SAFETY: as above.
+        #[cfg(target_arch = "x86_64")]
+        KernelIsa::Avx2 => unsafe { solve_avx2(groups, bodies, inv_h, max_push, pass) },
+        KernelIsa::Baseline => solve_all(groups, bodies, inv_h, max_push, pass),
     }
 }
 
@@ -520,8 +547,26 @@ unsafe fn warm_start_avx2(groups: &[ContactGroup], bodies: &mut BodySet) {
 }
 
 #[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f,avx512vl")]
+unsafe fn warm_start_avx512(groups: &[ContactGroup], bodies: &mut BodySet) {
+    warm_start_all(groups, bodies);
+}
+
+#[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn solve_avx2(
+    groups: &mut [ContactGroup],
+    bodies: &mut BodySet,
+    inv_h: f64,
+    max_push: f64,
+    pass: SolvePass,
+) {
+    solve_all(groups, bodies, inv_h, max_push, pass);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,avx512f,avx512vl")]
+unsafe fn solve_avx512(
     groups: &mut [ContactGroup],
     bodies: &mut BodySet,
     inv_h: f64,
@@ -637,6 +682,20 @@ mod tests {
             };
             c.set_softness(Softness::new(hz, 10.0, 1.0 / 720.0));
         }
+        // The warm start, in every copy of the lane code this processor runs.
+        let mut scalar_bodies = base.clone();
+        for c in &pick {
+            c.warm_start(&mut scalar_bodies);
+        }
+        assert_ne!(scalar_bodies.vel, base.vel);
+        for isa in KernelIsa::available() {
+            let mut batch_bodies = base.clone();
+            let mut batches = ContactBatches::default();
+            batches.build(&pick, n);
+            warm_start_on(isa, &batches.groups[..1], &mut batch_bodies);
+            assert_eq!(scalar_bodies.vel, batch_bodies.vel, "{isa:?}");
+            assert_eq!(scalar_bodies.omega, batch_bodies.omega, "{isa:?}");
+        }
         for pass in [
             SolvePass {
                 use_bias: true,
@@ -651,24 +710,20 @@ mod tests {
             for c in &mut scalar {
                 c.solve(&mut scalar_bodies, 720.0, 3.0, pass);
             }
-            // Both copies of the lane code: the one this processor runs (AVX2 where present)
-            // and the baseline one.
-            for baseline in [false, true] {
+            // Every copy of the lane code this processor runs (`KernelIsa::available`).
+            for isa in KernelIsa::available() {
                 let (mut batch_bodies, mut batched) = (base.clone(), pick.clone());
                 let mut batches = ContactBatches::default();
                 batches.build(&batched, n);
                 assert_eq!((batches.colours, batches.groups()), (1, 1));
-                if baseline {
-                    solve_all(
-                        &mut batches.groups[..1],
-                        &mut batch_bodies,
-                        720.0,
-                        3.0,
-                        pass,
-                    );
-                } else {
-                    batches.solve(&mut batch_bodies, 720.0, 3.0, pass);
-                }
+                solve_on(
+                    isa,
+                    &mut batches.groups[..1],
+                    &mut batch_bodies,
+                    720.0,
+                    3.0,
+                    pass,
+                );
                 batches.write_back(&mut batched);
                 assert_eq!(scalar_bodies.vel, batch_bodies.vel);
                 assert_eq!(scalar_bodies.omega, batch_bodies.omega);
