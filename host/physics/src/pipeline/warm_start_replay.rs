@@ -56,8 +56,10 @@ fn add(v: &mut [V3], d: &[V3]) {
 }
 
 fn difference(out: &mut Vec<V3>, end: &[V3], start: &[V3]) {
-    out.clear();
-    out.extend(end.iter().zip(start).map(|(e, s)| e - s));
+    out.resize(end.len(), V3::zeros());
+    for ((d, e), s) in out.iter_mut().zip(end).zip(start) {
+        *d = e - s;
+    }
 }
 
 #[cfg(test)]
