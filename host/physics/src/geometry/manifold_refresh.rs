@@ -73,13 +73,28 @@ pub(crate) fn record(m: &mut Manifold, a: &PosedPart<'_>, b: &PosedPart<'_>) {
 
 /// `old` moved with its bodies, when the pair of poses lies within `reach` (m) of the pose
 /// `old` was collided at; `None` when it must be collided again.
+#[cfg(test)]
 pub(crate) fn refresh(
     old: &Manifold,
     a: &PosedPart<'_>,
     b: &PosedPart<'_>,
     reach: f64,
 ) -> Option<Manifold> {
-    let origin = old.origin?;
+    let origin = within_reach(old, a, b, reach)?;
+    let mut m = *old;
+    move_points(&mut m, &origin, a, b);
+    Some(m)
+}
+
+/// The pose `m` was collided at, when the pair of poses lies within `reach` (m) of it; `None`
+/// when it must be collided again (or was never recorded).
+pub(crate) fn within_reach(
+    m: &Manifold,
+    a: &PosedPart<'_>,
+    b: &PosedPart<'_>,
+    reach: f64,
+) -> Option<PairPose> {
+    let origin = m.origin?;
     let radius_b = b.shape.bounding_radius();
     let rot = a.rot.tr_mul(&b.rot);
     let pos = a.rot.tr_mul(&(b.pos - a.pos));
@@ -87,7 +102,17 @@ pub(crate) fn refresh(
     if motion.is_nan() || motion > reach {
         return None;
     }
-    let mut m = *old;
+    Some(origin)
+}
+
+/// Moves `m`'s normal and points with the bodies from the pose `origin` it was collided at
+/// ([`within_reach`]), in place.
+pub(crate) fn move_points(
+    m: &mut Manifold,
+    origin: &PairPose,
+    a: &PosedPart<'_>,
+    b: &PosedPart<'_>,
+) {
     m.normal = a.rot * origin.normal;
     for c in m.points[..m.len].iter_mut() {
         let on_a = a.rot * c.local_a + a.pos;
@@ -95,7 +120,6 @@ pub(crate) fn refresh(
         c.point = (on_a + on_b) * 0.5;
         c.separation = c.origin_separation + m.normal.dot(&(on_b - on_a));
     }
-    Some(m)
 }
 
 #[cfg(test)]

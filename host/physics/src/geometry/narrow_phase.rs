@@ -403,11 +403,14 @@ impl NarrowPhase {
                     })
                     .flatten();
                 if let (Some(reach), [o]) = (reach, old) {
-                    if let Some(m) = manifold_refresh::refresh(o, &pa, &pb, reach) {
+                    if let Some(origin) = manifold_refresh::within_reach(o, &pa, &pb, reach) {
+                        // Moved in place once copied (one copy of the manifold, not two).
+                        self.manifolds.push(*o);
+                        let m = self.manifolds.last_mut().expect("pushed above");
+                        manifold_refresh::move_points(m, &origin, &pa, &pb);
                         counts.refreshed += 1;
                         counts.manifolds += 1;
                         counts.contacts += m.len;
-                        self.manifolds.push(m);
                         continue;
                     }
                 }

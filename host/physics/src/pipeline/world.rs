@@ -723,13 +723,17 @@ impl World {
             };
             self.fine_substeps(n_sub * self.fine_factor, h, &forces);
         }
-        if self.batched {
+        let restitution = eff.has(Effect::Restitution) && !self.constraints.is_empty();
+        // Without restitution nothing reads the constraints' impulses after the solve: the
+        // groups store theirs straight into the manifolds (below).
+        let grouped_store = self.batched && !restitution && self.narrow.is_some();
+        if self.batched && !grouped_store {
             self.batches.write_back(&mut self.constraints);
             if self.fine_factor > 1 {
                 self.fine_batches.write_back(&mut self.constraints);
             }
         }
-        if eff.has(Effect::Restitution) && !self.constraints.is_empty() {
+        if restitution {
             self.counters.mark(Stage::Restitution);
             let th = self.settings.restitution_threshold;
             for c in &mut self.constraints {
@@ -741,10 +745,27 @@ impl World {
         }
         if let Some(narrow) = self.narrow.as_mut() {
             let fine_h = h / self.fine_factor as f64;
-            for (c, &fine) in self.constraints.iter().zip(&self.fine_constraint) {
-                let m = &mut narrow.manifolds[c.manifold];
+            let store = |c: &ContactConstraint, fine: bool, manifolds: &mut [Manifold]| {
+                let m = &mut manifolds[c.manifold];
                 c.store(m);
                 m.impulse_substep = if fine { fine_h } else { h };
+            };
+            if grouped_store {
+                self.batches.store_impulses(&mut narrow.manifolds, h);
+                for &ci in &self.batches.scalar {
+                    store(&self.constraints[ci], false, &mut narrow.manifolds);
+                }
+                if self.fine_factor > 1 {
+                    self.fine_batches
+                        .store_impulses(&mut narrow.manifolds, fine_h);
+                    for &ci in &self.fine_batches.scalar {
+                        store(&self.constraints[ci], true, &mut narrow.manifolds);
+                    }
+                }
+            } else {
+                for (c, &fine) in self.constraints.iter().zip(&self.fine_constraint) {
+                    store(c, fine, &mut narrow.manifolds);
+                }
             }
         }
         if !self.tree_contacts.contacts.is_empty() {

@@ -19,7 +19,7 @@ use super::contact_constraint::{PatchFriction, PointConstraint, Row, LINEAR_SLOP
 use super::lanes::{KernelIsa, LaneV3, Lanes, WIDTH};
 use super::{ContactConstraint, Softness, SolvePass};
 use crate::dynamics::BodySet;
-use crate::geometry::{MAX_MANIFOLD_POINTS, V3};
+use crate::geometry::{Manifold, MAX_MANIFOLD_POINTS, V3};
 
 /// Colours tried before a constraint is left to the scalar solve.
 const MAX_COLOURS: usize = 24;
@@ -64,6 +64,8 @@ struct PatchLanes {
 struct ContactGroup {
     /// Constraint index of each lane.
     constraint: [usize; WIDTH],
+    /// Manifold index of each lane.
+    manifold: [usize; WIDTH],
     a: [usize; WIDTH],
     b: [usize; WIDTH],
     lanes: usize,
@@ -176,8 +178,9 @@ impl ContactGroup {
     /// constraint `ci` of `c`, or with zeros (rows that change nothing) for `None`; unused
     /// points become zeros too.
     fn set_lane(&mut self, l: usize, c: Option<(usize, &ContactConstraint)>) {
-        let (ci, a, b) = c.map_or((0, 0, 0), |(ci, c)| (ci, c.a, c.b));
+        let (ci, mi, a, b) = c.map_or((0, 0, 0, 0), |(ci, c)| (ci, c.manifold, c.a, c.b));
         self.constraint[l] = ci;
+        self.manifold[l] = mi;
         self.a[l] = a;
         self.b[l] = b;
         let c = c.map(|(_, c)| c);
@@ -341,6 +344,25 @@ impl ContactGroup {
             c.patch.twist_impulse = f.twist_impulse.0[l];
         }
     }
+
+    /// Stores the accumulated impulses straight into the manifolds, as
+    /// [`ContactConstraint::store`] would after [`Self::write_back`] (a grouped constraint
+    /// has no rolling resistance), accumulated over substeps of `impulse_substep` seconds.
+    fn store_impulses(&self, manifolds: &mut [Manifold], impulse_substep: f64) {
+        for l in 0..self.lanes {
+            let m = &mut manifolds[self.manifold[l]];
+            let len = m.len;
+            for (cp, pl) in m.points[..len].iter_mut().zip(&self.points) {
+                cp.normal_impulse = pl.normal_impulse.0[l];
+                cp.max_normal_impulse = pl.max_normal_impulse.0[l];
+            }
+            let f = &self.patch;
+            m.friction_impulse = [f.tangent_impulse[0].0[l], f.tangent_impulse[1].0[l]];
+            m.twist_impulse = f.twist_impulse.0[l];
+            m.rolling_impulse = V3::zeros();
+            m.impulse_substep = impulse_substep;
+        }
+    }
 }
 
 /// The step's contact constraints, coloured and grouped four by four.
@@ -483,6 +505,16 @@ impl ContactBatches {
     pub fn write_back(&self, constraints: &mut [ContactConstraint]) {
         for g in &self.groups[..self.live] {
             g.write_back(constraints);
+        }
+    }
+
+    /// Stores every group's accumulated impulses straight into `manifolds` (the manifold
+    /// warm-start store without the constraints in between, where nothing reads their
+    /// impulses after the solve: no restitution), with the substep (s) they were
+    /// accumulated over.
+    pub fn store_impulses(&self, manifolds: &mut [Manifold], impulse_substep: f64) {
+        for g in &self.groups[..self.live] {
+            g.store_impulses(manifolds, impulse_substep);
         }
     }
 }
