@@ -29,6 +29,17 @@ fn largest_differences(a: &World, b: &World) -> (f64, f64) {
         })
 }
 
+/// Every body's position and velocities after `steps` steps, the last of them in contact.
+fn state_after(w: &mut World, steps: usize) -> Vec<(V3, V3, V3)> {
+    for _ in 0..steps {
+        w.step().unwrap();
+    }
+    assert!(w.counters().contacts > 0);
+    w.bodies()
+        .map(|b| (b.position(), b.linear_velocity(), b.angular_velocity()))
+        .collect()
+}
+
 /// Over a step of 12 substeps of the pyramid settling under gravity (speeds up to `g dt`,
 /// 0.16 m/s), the replay and the contacts' own warm start apply the same impulses: the
 /// velocities differ by rounding alone. A few thousand operations on each velocity, each
@@ -77,13 +88,7 @@ fn a_world_with_joints_keeps_the_contacts_own_warm_start() {
             prev = Some(b);
         }
         // At 1 ms, 0.3 s: the chain lands end first and rolls over the ground.
-        for _ in 0..300 {
-            w.step().unwrap();
-        }
-        assert!(w.counters().contacts > 0);
-        w.bodies()
-            .map(|b| (b.position(), b.linear_velocity(), b.angular_velocity()))
-            .collect::<Vec<_>>()
+        state_after(&mut w, 300)
     };
     assert_eq!(run(true), run(false));
 }
@@ -98,13 +103,7 @@ fn a_contact_that_follows_a_turn_keeps_its_own_warm_start() {
     let run = |replay: bool| {
         let mut w = scene.build().unwrap();
         w.settings_mut().replay_warm_start = replay;
-        for _ in 0..60 {
-            w.step().unwrap();
-        }
-        assert!(w.counters().contacts > 0);
-        w.bodies()
-            .map(|b| (b.position(), b.linear_velocity(), b.angular_velocity()))
-            .collect::<Vec<_>>()
+        state_after(&mut w, 60)
     };
     assert_eq!(run(true), run(false));
 }

@@ -10,7 +10,7 @@
 //! compiled for AVX2 when the processor has it ([`KernelIsa`]).
 
 use crate::algebra::{exp_series, exp_translation, rotation_rows, se3, SE3, SERIES_THETA2};
-use crate::dynamics::solver::lanes::{KernelIsa, Lanes, WIDTH};
+use crate::dynamics::solver::lanes::{compiled_for, KernelIsa, Lanes, WIDTH};
 use crate::dynamics::{BodyKind, BodySet};
 use crate::geometry::V3;
 
@@ -53,11 +53,9 @@ fn positions_on(isa: KernelIsa, b: &mut BodySet, h: f64, kinematic: bool) {
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn positions_avx2(b: &mut BodySet, h: f64, kinematic: bool) {
-    positions(b, h, kinematic);
-}
+compiled_for!(fn(b: &mut BodySet, h: f64, kinematic: bool) => positions:
+    positions_avx2 = "avx2",
+);
 
 #[inline(always)]
 fn positions(b: &mut BodySet, h: f64, kinematic: bool) {

@@ -16,7 +16,7 @@
 //! computes the same bits (no fused multiply–add is ever formed).
 
 use super::contact_constraint::{PatchFriction, PointConstraint, Row, LINEAR_SLOP};
-use super::lanes::{KernelIsa, LaneV3, Lanes, WIDTH};
+use super::lanes::{compiled_for, KernelIsa, LaneV3, Lanes, WIDTH};
 use super::{ContactConstraint, Softness, SolvePass};
 use crate::dynamics::BodySet;
 use crate::geometry::{Manifold, MAX_MANIFOLD_POINTS, V3};
@@ -330,18 +330,28 @@ impl ContactGroup {
         self.store(bodies, &s);
     }
 
+    /// Lane `l`'s accumulated impulses.
+    fn impulses(&self, l: usize) -> LaneImpulses {
+        let f = &self.patch;
+        LaneImpulses {
+            normal: std::array::from_fn(|k| self.points[k].normal_impulse.0[l]),
+            max_normal: std::array::from_fn(|k| self.points[k].max_normal_impulse.0[l]),
+            tangent: [f.tangent_impulse[0].0[l], f.tangent_impulse[1].0[l]],
+            twist: f.twist_impulse.0[l],
+        }
+    }
+
     /// Copies the accumulated impulses back into the constraints.
     fn write_back(&self, constraints: &mut [ContactConstraint]) {
         for l in 0..self.lanes {
             let c = &mut constraints[self.constraint[l]];
-            let len = c.len;
-            for (pc, pl) in c.points[..len].iter_mut().zip(&self.points) {
-                pc.normal_impulse = pl.normal_impulse.0[l];
-                pc.max_normal_impulse = pl.max_normal_impulse.0[l];
+            let i = self.impulses(l);
+            for (k, pc) in c.points[..c.len].iter_mut().enumerate() {
+                pc.normal_impulse = i.normal[k];
+                pc.max_normal_impulse = i.max_normal[k];
             }
-            let f = &self.patch;
-            c.patch.tangent_impulse = [f.tangent_impulse[0].0[l], f.tangent_impulse[1].0[l]];
-            c.patch.twist_impulse = f.twist_impulse.0[l];
+            c.patch.tangent_impulse = i.tangent;
+            c.patch.twist_impulse = i.twist;
         }
     }
 
@@ -351,18 +361,25 @@ impl ContactGroup {
     fn store_impulses(&self, manifolds: &mut [Manifold], impulse_substep: f64) {
         for l in 0..self.lanes {
             let m = &mut manifolds[self.manifold[l]];
-            let len = m.len;
-            for (cp, pl) in m.points[..len].iter_mut().zip(&self.points) {
-                cp.normal_impulse = pl.normal_impulse.0[l];
-                cp.max_normal_impulse = pl.max_normal_impulse.0[l];
+            let i = self.impulses(l);
+            for (k, cp) in m.points[..m.len].iter_mut().enumerate() {
+                cp.normal_impulse = i.normal[k];
+                cp.max_normal_impulse = i.max_normal[k];
             }
-            let f = &self.patch;
-            m.friction_impulse = [f.tangent_impulse[0].0[l], f.tangent_impulse[1].0[l]];
-            m.twist_impulse = f.twist_impulse.0[l];
+            m.friction_impulse = i.tangent;
+            m.twist_impulse = i.twist;
             m.rolling_impulse = V3::zeros();
             m.impulse_substep = impulse_substep;
         }
     }
+}
+
+/// One lane's accumulated impulses (N·s; the twist in N·m·s).
+struct LaneImpulses {
+    normal: [f64; MAX_MANIFOLD_POINTS],
+    max_normal: [f64; MAX_MANIFOLD_POINTS],
+    tangent: [f64; 2],
+    twist: f64,
 }
 
 /// The step's contact constraints, coloured and grouped four by four.
@@ -572,41 +589,20 @@ fn solve_all(
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn warm_start_avx2(groups: &[ContactGroup], bodies: &mut BodySet) {
-    warm_start_all(groups, bodies);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,avx512f,avx512vl")]
-unsafe fn warm_start_avx512(groups: &[ContactGroup], bodies: &mut BodySet) {
-    warm_start_all(groups, bodies);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn solve_avx2(
+compiled_for!(fn(groups: &[ContactGroup], bodies: &mut BodySet) => warm_start_all:
+    warm_start_avx2 = "avx2",
+    warm_start_avx512 = "avx2,avx512f,avx512vl",
+);
+compiled_for!(fn(
     groups: &mut [ContactGroup],
     bodies: &mut BodySet,
     inv_h: f64,
     max_push: f64,
     pass: SolvePass,
-) {
-    solve_all(groups, bodies, inv_h, max_push, pass);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,avx512f,avx512vl")]
-unsafe fn solve_avx512(
-    groups: &mut [ContactGroup],
-    bodies: &mut BodySet,
-    inv_h: f64,
-    max_push: f64,
-    pass: SolvePass,
-) {
-    solve_all(groups, bodies, inv_h, max_push, pass);
-}
+) => solve_all:
+    solve_avx2 = "avx2",
+    solve_avx512 = "avx2,avx512f,avx512vl",
+);
 
 #[cfg(test)]
 mod tests {

@@ -9,6 +9,23 @@ use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
 /// Number of lanes.
 pub const WIDTH: usize = 4;
 
+/// For each `$name = $features`, `unsafe fn $name(args) { $inner(args) }` compiled with those
+/// target features (x86-64 only): the copies of an `#[inline(always)]` kernel for each
+/// instruction set ([`KernelIsa`]). The caller must make sure the processor has the features.
+macro_rules! compiled_for {
+    (fn $args:tt => $inner:ident: $($name:ident = $features:literal),+ $(,)?) => {
+        $(compiled_for!(@one $name, $features, $args, $inner);)+
+    };
+    (@one $name:ident, $features:literal, ($($arg:ident: $ty:ty),* $(,)?), $inner:ident) => {
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $features)]
+        unsafe fn $name($($arg: $ty),*) {
+            $inner($($arg),*)
+        }
+    };
+}
+pub(crate) use compiled_for;
+
 /// The instruction set the four-lane kernels (the contact groups' passes, the pose stage) are
 /// compiled for, chosen once per process from what the processor offers. The kernels are the
 /// same source in each: the lanes stay four f64 wide, and AVX-512 (with its VL extension)
