@@ -391,8 +391,13 @@ impl ContactConstraint {
         };
         // Centres of curvature of round parts off their body's centre of mass: A's contact
         // point lies one radius along +n from its centre, B's along −n.
+        // Written in place: a local array copied in at the end stalled on its own stores
+        // (`perf annotate`: 13 % of this function on pyramid-1240).
         let mut radius = [0.0; 2];
-        let mut centre = [[V3::zeros(); 2]; MAX_MANIFOLD_POINTS];
+        let centre = &mut self.centre;
+        for c in centre.iter_mut() {
+            *c = [V3::new(0.0, 0.0, 0.0); 2];
+        }
         for (side, (i, part, moving)) in [(a, m.part_a, ima > 0.0), (b, m.part_b, imb > 0.0)]
             .into_iter()
             .enumerate()
@@ -453,7 +458,6 @@ impl ContactConstraint {
         self.len = m.len;
         self.impulse_substep = m.impulse_substep;
         self.round_radius = radius;
-        self.centre = centre;
         self.follows = radius[0] > 0.0 || radius[1] > 0.0;
     }
 
