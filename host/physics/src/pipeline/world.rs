@@ -622,6 +622,7 @@ impl World {
         // fixed for the step, and the pose stage leaves the velocities alone: the contacts'
         // warm start can be replayed per body.
         let replay = self.settings.replay_warm_start
+            && n_sub > 1
             && !self.constraints.is_empty()
             && !follows
             && !joints_on

@@ -396,8 +396,6 @@ pub struct ContactBatches {
     members: Vec<Vec<usize>>,
     /// Per constraint: its group times [`WIDTH`] plus its lane ([`NO_SLOT`]: none).
     slot: Vec<u32>,
-    /// The instruction set of the passes (asked once).
-    isa: Option<KernelIsa>,
 }
 
 impl ContactBatches {
@@ -494,21 +492,15 @@ impl ContactBatches {
         self.live
     }
 
-    fn isa(&mut self) -> KernelIsa {
-        *self.isa.get_or_insert_with(KernelIsa::detect)
-    }
-
     /// Applies every group's accumulated impulses (warm start).
-    pub fn warm_start(&mut self, bodies: &mut BodySet) {
-        let isa = self.isa();
-        warm_start_on(isa, &self.groups[..self.live], bodies);
+    pub fn warm_start(&self, bodies: &mut BodySet) {
+        warm_start_on(KernelIsa::detect(), &self.groups[..self.live], bodies);
     }
 
     /// One pass over the groups (see [`ContactConstraint::solve`]).
     pub fn solve(&mut self, bodies: &mut BodySet, inv_h: f64, max_push: f64, pass: SolvePass) {
-        let isa = self.isa();
         solve_on(
-            isa,
+            KernelIsa::detect(),
             &mut self.groups[..self.live],
             bodies,
             inv_h,

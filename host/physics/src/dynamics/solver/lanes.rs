@@ -45,8 +45,13 @@ pub(crate) enum KernelIsa {
 }
 
 impl KernelIsa {
-    /// The widest the processor runs (`is_x86_feature_detected!` caches its answer).
+    /// The widest the processor runs, asked once per process.
     pub(crate) fn detect() -> Self {
+        static ISA: std::sync::OnceLock<KernelIsa> = std::sync::OnceLock::new();
+        *ISA.get_or_init(Self::ask)
+    }
+
+    fn ask() -> Self {
         #[cfg(target_arch = "x86_64")]
         {
             if std::arch::is_x86_feature_detected!("avx512f")
