@@ -123,6 +123,10 @@ enum Cmd {
         /// back each body's change of velocity from the substep before.
         #[arg(long)]
         contact_warm_start: bool,
+        /// Let the contacts settle at the overlap their loads ask, instead of holding back
+        /// the sink of resting contacts.
+        #[arg(long)]
+        no_sink_hold: bool,
     },
     /// Cost of each effect added to a base scene, and of the same effect undeclared.
     Effects {
@@ -248,6 +252,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             relax_last_only,
             fixed_substeps,
             contact_warm_start,
+            no_sink_hold,
         } => run::bench(
             &scene,
             steps,
@@ -261,6 +266,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 relax_last_only,
                 fixed_substeps,
                 contact_warm_start,
+                no_sink_hold,
             },
         ),
     }

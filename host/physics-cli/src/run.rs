@@ -196,6 +196,8 @@ pub struct SolverOverrides {
     pub fixed_substeps: bool,
     /// The contacts' own warm start in every substep (no per-body replay).
     pub contact_warm_start: bool,
+    /// Contacts settle at their loads' overlap (no sink hold).
+    pub no_sink_hold: bool,
 }
 
 /// `vphys bench`: ms per step and the drift of the boxes, as one JSON object.
@@ -232,6 +234,9 @@ pub fn bench(
     if overrides.contact_warm_start {
         w.settings_mut().replay_warm_start = false;
     }
+    if overrides.no_sink_hold {
+        w.settings_mut().hold_sink = false;
+    }
     if let Some(cap) = overrides.hertz_cap {
         anyhow::ensure!(
             cap.is_finite() && cap > 0.0,
@@ -262,6 +267,7 @@ pub fn bench(
         "substeps": substeps, "mean_substeps_taken": taken,
         "fewer_substeps_at_rest": w.settings().fewer_substeps_at_rest,
         "replay_warm_start": w.settings().replay_warm_start,
+        "hold_sink": w.settings().hold_sink,
         "contact_hertz": w.settings().contact_hertz,
         "soft_contacts": w.settings().soft_contacts,
         "batch_contacts": w.settings().batch_contacts,

@@ -26,6 +26,10 @@ pub struct ContactPoint {
     pub tangent_impulse: [f64; 2],
     /// Largest normal impulse applied in the last step (N·s): the contact's "hit" strength.
     pub max_normal_impulse: f64,
+    /// Overlap (m) the contact is solved as if it had beyond its own: the sink its load
+    /// leaves in a soft contact, learned step after step, so a resting stack stands at its
+    /// slop instead of sinking.
+    pub held_overlap: f64,
 }
 
 /// The contact between a shape of one body and a shape of another: a shared normal and up to

@@ -504,6 +504,7 @@ impl NarrowPhase {
                         best = d2;
                         c.normal_impulse = q.normal_impulse;
                         c.tangent_impulse = q.tangent_impulse;
+                        c.held_overlap = q.held_overlap;
                     }
                 }
             }

@@ -28,7 +28,6 @@ use crate::dynamics::solver::contact_constraint::LINEAR_SLOP;
 use crate::dynamics::solver::softness::UNEVEN_MASS_RATIO;
 use crate::dynamics::solver::{ContactConstraint, ContactStiffness};
 use crate::dynamics::{BodyKind, BodySet};
-use crate::geometry::V3;
 use crate::pipeline::islands::{ANGULAR_SLEEP_SPEED, LINEAR_SLEEP_SPEED, TIME_TO_SLEEP};
 
 /// The sink (m) a resting world may take on fewer substeps: half the centimetre a resting
@@ -51,6 +50,9 @@ const DIVISORS: [usize; 4] = [2, 3, 4, 6];
 pub(crate) struct RestingSubsteps {
     /// How long (s) every body has rested.
     rested: f64,
+    /// The last decision: the step's substeps it was taken for, the substeps chosen, and how
+    /// long (s) it has been kept.
+    kept: Option<(usize, usize, f64)>,
     /// Per body: its predicted sink (m).
     sink: Vec<f64>,
     /// The loaded contacts that support a body, lowest body on top first.
@@ -74,6 +76,10 @@ struct Load {
     /// `max λ / (h m)` over its points (m/s²): its overlap at stiffness `ω` is this over `ω²`
     /// ([`ContactConstraint::resting_overlap`] at `ω = 1`).
     load: f64,
+    /// Where the contact holds its sink (`pipeline/sink_hold.rs`: it bears weight and the
+    /// world holds sinks): the mean over its points of `λ / (h m)` (m/s²), the share of
+    /// `load` its hold takes up; 0 where it does not.
+    held_load: f64,
 }
 
 /// What the world tells the decision about itself.
@@ -84,6 +90,8 @@ pub(crate) struct RestingWorld<'a> {
     /// Whether anything but free bodies in contact is stepped: joints, articulated trees,
     /// a moving kinematic body.
     pub more_than_contacts: bool,
+    /// Whether the contacts hold back their sink (`SolverSettings::hold_sink`).
+    pub hold_sink: bool,
     /// The step's substeps.
     pub substeps: usize,
 }
@@ -92,6 +100,7 @@ impl RestingSubsteps {
     /// Forgets how long the world has rested (while it may not take fewer substeps).
     pub(crate) fn forget(&mut self) {
         self.rested = 0.0;
+        self.kept = None;
     }
 
     /// The substeps the world takes this step: fewer than `world.substeps` where it has
@@ -107,16 +116,41 @@ impl RestingSubsteps {
     ) -> usize {
         let n = world.substeps;
         if !still(bodies, constraints, world) || islands.holding() {
-            self.rested = 0.0;
+            self.forget();
             return n;
         }
-        self.rested += world.loads.dt;
+        let dt = world.loads.dt;
+        self.rested += dt;
         // A column found by the last step's plan still stands (columns rarely part at rest):
         // the step's substeps, without looking further.
         if self.rested < RESTING_TIME || islands.stacked() {
             return n;
         }
-        if !self.gather(bodies, constraints, world.loads.up) {
+        // While the world stays at rest its loads stay as they were: a decision holds for
+        // [`RESTING_TIME`] before it is taken again.
+        if let Some((of, chosen, age)) = &mut self.kept {
+            if *of == n && *age + dt < RESTING_TIME {
+                *age += dt;
+                return *chosen;
+            }
+        }
+        let chosen = self.decide(bodies, constraints, islands, world, stiffness);
+        self.kept = Some((n, chosen, 0.0));
+        chosen
+    }
+
+    /// [`RestingSubsteps::substeps`] for a world that has rested long enough: the fewest
+    /// substeps that hold it.
+    fn decide(
+        &mut self,
+        bodies: &BodySet,
+        constraints: &[ContactConstraint],
+        islands: &mut IslandSubsteps,
+        world: &RestingWorld<'_>,
+        stiffness: impl Fn(usize) -> ContactStiffness,
+    ) -> usize {
+        let n = world.substeps;
+        if !self.gather(bodies, constraints, &world.loads, world.hold_sink) {
             return n;
         }
         let mut chosen = n;
@@ -149,7 +183,14 @@ impl RestingSubsteps {
     /// Gathers the loaded contacts, the supports sorted from the lowest body on top up;
     /// false where a contact joins moving bodies [`UNEVEN_MASS_RATIO`] times apart or follows
     /// a round part's turn.
-    fn gather(&mut self, bodies: &BodySet, constraints: &[ContactConstraint], up: V3) -> bool {
+    fn gather(
+        &mut self,
+        bodies: &BodySet,
+        constraints: &[ContactConstraint],
+        loads: &StepLoads<'_>,
+        hold: bool,
+    ) -> bool {
+        let up = loads.up;
         let moving = |i: usize| bodies.kind[i] == BodyKind::Dynamic && bodies.awake[i];
         self.supports.clear();
         self.sides.clear();
@@ -171,6 +212,11 @@ impl RestingSubsteps {
                 against_static: c.against_static,
                 mass_ratio,
                 load,
+                held_load: if hold && along.abs() >= SUPPORT_COSINE {
+                    c.mean_resting_overlap(1.0)
+                } else {
+                    0.0
+                },
             };
             if along.abs() < SUPPORT_COSINE {
                 self.sides.push(l);
@@ -191,21 +237,14 @@ impl RestingSubsteps {
     /// loads: each body the overlap and slop of a contact it stands on plus the sink of the
     /// body below, the largest over its supports, taken from the lowest body up; a contact
     /// pressed from the side (as between pushed boxes) moves its bodies by its own overlap.
+    /// A contact that holds its sink keeps its mean overlap at the slop as the stiffness
+    /// changes (`sink_hold::restiffen`): only its most loaded point's excess over the mean
+    /// overlaps beyond it.
     fn sink(&mut self, bodies: &BodySet, k: &ContactStiffness) -> f64 {
         let moving = |i: usize| bodies.kind[i] == BodyKind::Dynamic && bodies.awake[i];
-        // Almost every contact of a resting pile is between equal masses or against the
-        // ground: their stiffness once.
-        let (even, fixed) = (k.hertz_for(false, 1.0), k.hertz_for(true, 1.0));
         let overlap = |l: &Load| {
-            let hz = if l.against_static {
-                fixed
-            } else if l.mass_ratio == 1.0 {
-                even
-            } else {
-                k.hertz_for(false, l.mass_ratio)
-            };
-            let omega = 2.0 * std::f64::consts::PI * hz;
-            l.load / (omega * omega) + LINEAR_SLOP
+            let omega = 2.0 * std::f64::consts::PI * k.hertz_for(l.against_static, l.mass_ratio);
+            (l.load - l.held_load).max(0.0) / (omega * omega) + LINEAR_SLOP
         };
         let mut most = self.sides.iter().map(overlap).fold(0.0, f64::max);
         self.sink.clear();

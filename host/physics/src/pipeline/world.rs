@@ -26,6 +26,10 @@ use island_substeps::{IslandSubsteps, StepLoads};
 mod resting_substeps;
 use resting_substeps::{RestingSubsteps, RestingWorld};
 
+#[path = "sink_hold.rs"]
+pub(crate) mod sink_hold;
+use sink_hold::SinkHold;
+
 #[path = "warm_start_replay.rs"]
 mod warm_start_replay;
 use warm_start_replay::WarmStartReplay;
@@ -116,6 +120,12 @@ pub struct SolverSettings {
     /// semi-implicit Euler integrators): the same impulses up to rounding, for a pass over
     /// the bodies instead of one over the contacts (`pipeline/warm_start_replay.rs`; default).
     pub replay_warm_start: bool,
+    /// Hold back the sink of loaded contacts between free bodies: each step, a share of a
+    /// contact's overlap beyond the slop (the step over a quarter second) is added to the
+    /// overlap it is solved as if it had, so a resting stack stands at its slop whatever the
+    /// contacts' stiffness (`pipeline/sink_hold.rs`; default). Off, a soft contact settles at
+    /// the overlap its load asks, `F / (m ω²)`.
+    pub hold_sink: bool,
 }
 
 impl SolverSettings {
@@ -165,6 +175,7 @@ impl Default for SolverSettings {
             batch_contacts: true,
             fewer_substeps_at_rest: true,
             replay_warm_start: true,
+            hold_sink: true,
         }
     }
 }
@@ -206,6 +217,8 @@ pub struct World {
     island_substeps: IslandSubsteps,
     /// A world at rest takes fewer substeps (`resting_substeps.rs`).
     resting_substeps: RestingSubsteps,
+    /// The resting contacts' sink held back (`sink_hold.rs`).
+    sink_hold: SinkHold,
     /// Substeps of those islands per substep of the step (1: none this step).
     fine_factor: usize,
     /// Per constraint: whether it belongs to such an island.
@@ -275,6 +288,7 @@ impl World {
             batched: false,
             island_substeps: IslandSubsteps::default(),
             resting_substeps: RestingSubsteps::default(),
+            sink_hold: SinkHold::default(),
             fine_factor: 1,
             fine_constraint: Vec::new(),
             fine_batches: ContactBatches::default(),
@@ -463,6 +477,23 @@ impl World {
                 restitution_threshold: self.settings.restitution_threshold,
                 max_push_velocity: self.settings.max_push_velocity,
             };
+            // Against gravity, where the sink is held (`pipeline/sink_hold.rs`).
+            let g = self.gravity.norm();
+            let hold_up = (self.settings.hold_sink
+                && self.settings.soft_contacts
+                && eff.has(Effect::Gravity)
+                && g > 0.0)
+                .then(|| -self.gravity / g);
+            if let Some(up) = &hold_up {
+                let (bodies, proxies) = (&self.bodies, &self.proxies);
+                let solved = |m: &Manifold| {
+                    let (a, b) = (m.a as usize, m.b as usize);
+                    let proxy = |i: usize| proxies.get(i).is_some_and(Option::is_some);
+                    !(proxy(a) || proxy(b)) && (bodies.awake[a] || bodies.awake[b])
+                };
+                self.sink_hold
+                    .update(&mut narrow.manifolds, solved, (bodies.len(), dt, spec), up);
+            }
             for (mi, m) in narrow.manifolds.iter().enumerate() {
                 let (a, b) = (m.a as usize, m.b as usize);
                 let proxy = |i: usize| self.proxies.get(i).is_some_and(Option::is_some);
@@ -539,7 +570,8 @@ impl World {
         // does not run at rest: joints and trees keep the step's substeps, and continuous
         // collision's sweep margin (`½ |v| |ω| h dt`) is nil for bodies at rest.
         let fewer = self.substeps_at_rest(n_sub, coupled);
-        if fewer < n_sub {
+        let at_rest = fewer < n_sub;
+        if at_rest {
             n_sub = fewer;
             h = dt / n_sub as f64;
             inv_h = 1.0 / h;
@@ -563,7 +595,11 @@ impl World {
             for c in &mut self.constraints {
                 c.stiffen(&stiffness);
             }
-            self.plan_island_substeps(&stiffness, n_sub);
+            // A world that takes fewer substeps at rest leans within the tolerance at their
+            // stiffness, and holds no island's factor: no island needs more.
+            if !at_rest {
+                self.plan_island_substeps(&stiffness, n_sub);
+            }
         } else {
             for c in &mut self.constraints {
                 c.set_softness(soft);
@@ -915,6 +951,7 @@ impl World {
                 self.dt,
             ),
             more_than_contacts,
+            hold_sink: self.settings.hold_sink,
             substeps: n_sub,
         };
         let settings = self.settings;
@@ -989,13 +1026,41 @@ impl World {
             self.fine_constraint.clear();
             self.fine_constraint.resize(self.constraints.len(), false);
         }
-        let Some(narrow) = self.narrow.as_ref() else {
+        let Some(narrow) = self.narrow.as_mut() else {
             return;
         };
         let fine_h = h / self.fine_factor as f64;
-        for (c, &fine) in self.constraints.iter_mut().zip(&self.fine_constraint) {
+        let g = self.gravity.norm();
+        let hold_up = (self.settings.hold_sink
+            && self.settings.soft_contacts
+            && self.effects.has(Effect::Gravity)
+            && g > 0.0)
+            .then(|| -self.gravity / g);
+        let reach = self.settings.speculative_distance;
+        let fine = &self.fine_constraint;
+        let substep = |ci: usize| if fine[ci] { fine_h } else { h };
+        if let Some(up) = &hold_up {
+            let settings = &self.settings;
+            let changes = |ci: usize, m: &Manifold| {
+                let (carried, now) = (m.impulse_substep, substep(ci));
+                (carried > 0.0 && carried != now).then(|| {
+                    (
+                        settings.contact_stiffness(carried),
+                        settings.contact_stiffness(now),
+                    )
+                })
+            };
+            self.sink_hold.restiffen(
+                &mut self.constraints,
+                &mut narrow.manifolds,
+                changes,
+                (self.bodies.len(), reach),
+                up,
+            );
+        }
+        for (ci, c) in self.constraints.iter_mut().enumerate() {
             let carried = narrow.manifolds[c.manifold].impulse_substep;
-            let now = if fine { fine_h } else { h };
+            let now = substep(ci);
             if carried > 0.0 && carried != now {
                 c.scale_impulses(now / carried);
             }

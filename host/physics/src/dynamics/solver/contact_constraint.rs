@@ -362,7 +362,7 @@ impl ContactConstraint {
                 ja: ra.cross(&n),
                 jb: rb.cross(&n),
                 n: Row::new(&ra, &rb, &n, ima, imb, &ia, &ib),
-                separation: cp.separation,
+                separation: cp.separation - cp.held_overlap,
                 relative_velocity: n.dot(&dv),
                 normal_impulse: cp.normal_impulse,
                 max_normal_impulse: 0.0,
@@ -612,6 +612,30 @@ impl ContactConstraint {
             .filter(|p| p.n.mass > 0.0 && p.normal_impulse > 0.0)
             .map(|p| p.normal_impulse / h / (p.n.mass * omega * omega))
             .fold(0.0, f64::max)
+    }
+
+    /// The overlap (m) at which this contact's points settle under the loads they carried,
+    /// at stiffness `omega` (rad/s), on the mean over its points (an unloaded point at none):
+    /// [`ContactConstraint::resting_overlap`]'s overlap, point by point.
+    pub(crate) fn mean_resting_overlap(&self, omega: f64) -> f64 {
+        let h = self.impulse_substep;
+        if h <= 0.0 || omega <= 0.0 || self.len == 0 {
+            return 0.0;
+        }
+        self.points[..self.len]
+            .iter()
+            .filter(|p| p.n.mass > 0.0 && p.normal_impulse > 0.0)
+            .map(|p| p.normal_impulse / h / (p.n.mass * omega * omega))
+            .sum::<f64>()
+            / self.len as f64
+    }
+
+    /// Solves the contact as if it were `extra` (m) deeper than prepared (negative: less
+    /// deep), as its hold changes (`pipeline/sink_hold.rs`).
+    pub(crate) fn deepen(&mut self, extra: f64) {
+        for pc in &mut self.points[..self.len] {
+            pc.separation -= extra;
+        }
     }
 
     /// Whether the contact follows a round part's turn within the step
