@@ -6,6 +6,12 @@
 //!
 //! Each candidate pair is reported once: only in the cell holding the lower corner of the two
 //! boxes' intersection. Output: sorted pair keys `a << 32 | b`, `a < b`.
+//!
+//! The grid runs on the bodies' boxes grown by [`REUSE_MARGIN`], and its pairs are kept: while
+//! every body's box stays within its grown box (a world at rest, or slow), the pairs whose
+//! boxes overlap now are among the kept ones, and the step takes them from those instead of
+//! hashing and sorting the grid again (Box2D's fattened boxes, for a grid). The pairs are the
+//! same either way.
 
 use super::{Aabb, CollisionBodies, Shape};
 
@@ -13,6 +19,11 @@ use super::{Aabb, CollisionBodies, Shape};
 /// against the grid's hashing and sorting of every cell a body covers (a foosball table's
 /// rods span the field and cover some 40 cells each).
 pub const ALL_PAIRS_BODIES: usize = 64;
+
+/// How far (m) a body's box may move out of place before the grid is built again: each
+/// body's box is grown by this much for the grid, and while every body's box stays within its
+/// grown box the kept pairs are reused. Half Box2D v3's `B2_AABB_MARGIN` (0.1 m).
+pub const REUSE_MARGIN: f64 = 0.05;
 
 /// Most cells one body may cover before it is treated as oversized.
 const MAX_CELLS_PER_BODY: i64 = 64;
@@ -26,6 +37,13 @@ pub struct BroadPhase {
     oversized: Vec<u32>,
     /// Candidate pairs of the last update, sorted keys `a << 32 | b`.
     pub pairs: Vec<u64>,
+    /// The grid's last build: each body's box grown by [`REUSE_MARGIN`], which bodies
+    /// respond to contacts, the excluded pairs, and the pairs of the grown boxes (awake or
+    /// not); empty until built.
+    grown: Vec<Aabb>,
+    grown_responds: Vec<bool>,
+    grown_excluded: Vec<u64>,
+    grown_pairs: Vec<u64>,
 }
 
 /// The cell of coordinate `x`; saturating (`as` clamps to the `i64` range, NaN gives 0), so
@@ -104,6 +122,10 @@ impl BroadPhase {
             entries: Vec::new(),
             oversized: Vec::new(),
             pairs: Vec::new(),
+            grown: Vec::new(),
+            grown_responds: Vec::new(),
+            grown_excluded: Vec::new(),
+            grown_pairs: Vec::new(),
         }
     }
 
@@ -111,19 +133,64 @@ impl BroadPhase {
     /// contacts (`responds`), of two bodies that are both not awake, and pairs in `excluded`
     /// (sorted keys) are skipped. Returns the number of box–box overlap tests made.
     pub fn update(&mut self, bodies: &CollisionBodies<'_>, excluded: &[u64]) -> usize {
-        self.entries.clear();
-        self.oversized.clear();
         self.pairs.clear();
         if bodies.len() <= ALL_PAIRS_BODIES {
             return self.all_pairs(bodies, excluded);
         }
+        let mut tests = 0;
+        if !self.still_within(bodies, excluded) {
+            self.grown.clear();
+            self.grown
+                .extend(bodies.aabb.iter().map(|b| b.loosened(REUSE_MARGIN)));
+            self.grown_responds.clear();
+            self.grown_responds.extend_from_slice(bodies.responds);
+            self.grown_excluded.clear();
+            self.grown_excluded.extend_from_slice(excluded);
+            tests += self.build_grid(bodies);
+        }
+        // The pairs whose boxes overlap now, of those of the grown boxes.
+        for &k in &self.grown_pairs {
+            let (a, b) = ((k >> 32) as usize, (k & 0xffff_ffff) as usize);
+            if !Self::wanted(bodies, a, b) {
+                continue;
+            }
+            tests += 1;
+            if boxes_meet(bodies, bodies.aabb, a, b) {
+                self.pairs.push(k);
+            }
+        }
+        tests
+    }
+
+    /// Whether the grid's last build still holds every candidate: the same bodies respond
+    /// to contacts, the same pairs are excluded, and every body's box lies within its grown
+    /// box.
+    fn still_within(&self, bodies: &CollisionBodies<'_>, excluded: &[u64]) -> bool {
+        self.grown.len() == bodies.len()
+            && self.grown_responds == bodies.responds
+            && self.grown_excluded == excluded
+            && self
+                .grown
+                .iter()
+                .zip(bodies.aabb)
+                .all(|(g, b)| g.contains(b))
+    }
+
+    /// Builds the grid on the grown boxes: `grown_pairs`, every pair of them that overlaps,
+    /// of bodies one of which responds to contacts, not excluded. Returns the number of box
+    /// tests made.
+    fn build_grid(&mut self, bodies: &CollisionBodies<'_>) -> usize {
+        self.entries.clear();
+        self.oversized.clear();
+        self.grown_pairs.clear();
+        let boxes = &self.grown;
         let inv = 1.0 / self.cell;
-        for i in 0..bodies.len() {
+        for (i, b) in boxes.iter().enumerate() {
             if bodies.shape[i].is_half_space() {
                 self.oversized.push(i as u32);
                 continue;
             }
-            let Some(([x0, y0, z0], [x1, y1, z1])) = cell_range(&bodies.aabb[i], inv) else {
+            let Some(([x0, y0, z0], [x1, y1, z1])) = cell_range(b, inv) else {
                 self.oversized.push(i as u32);
                 continue;
             };
@@ -136,6 +203,7 @@ impl BroadPhase {
             }
         }
         self.entries.sort_unstable();
+        let responds = |a: usize, b: usize| bodies.responds[a] || bodies.responds[b];
         let mut tests = 0;
         let mut s = 0;
         while s < self.entries.len() {
@@ -148,11 +216,11 @@ impl BroadPhase {
                 let a = self.entries[u].1 as usize;
                 for v in u + 1..e {
                     let b = self.entries[v].1 as usize;
-                    if !Self::wanted(bodies, a, b) {
+                    if !responds(a, b) {
                         continue;
                     }
                     tests += 1;
-                    let (ba, bb) = (&bodies.aabb[a], &bodies.aabb[b]);
+                    let (ba, bb) = (&boxes[a], &boxes[b]);
                     if !ba.overlaps(bb) {
                         continue;
                     }
@@ -161,7 +229,7 @@ impl BroadPhase {
                     if key(cell_of(lo.x, inv), cell_of(lo.y, inv), cell_of(lo.z, inv)) != k {
                         continue;
                     }
-                    self.push_pair(a, b, excluded);
+                    push_pair(&mut self.grown_pairs, a, b, &self.grown_excluded);
                 }
             }
             s = e;
@@ -169,8 +237,8 @@ impl BroadPhase {
         // Oversized bodies and half-spaces against everything.
         for oi in 0..self.oversized.len() {
             let o = self.oversized[oi] as usize;
-            for b in 0..bodies.len() {
-                if b == o || !Self::wanted(bodies, o, b) {
+            for b in 0..boxes.len() {
+                if b == o || !responds(o, b) {
                     continue;
                 }
                 // Two oversized bodies: only once.
@@ -178,12 +246,12 @@ impl BroadPhase {
                     continue;
                 }
                 tests += 1;
-                if boxes_meet(bodies, o, b) {
-                    self.push_pair(o, b, excluded);
+                if boxes_meet(bodies, boxes, o, b) {
+                    push_pair(&mut self.grown_pairs, o, b, &self.grown_excluded);
                 }
             }
         }
-        self.pairs.sort_unstable();
+        self.grown_pairs.sort_unstable();
         tests
     }
 
@@ -196,8 +264,8 @@ impl BroadPhase {
                     continue;
                 }
                 tests += 1;
-                if boxes_meet(bodies, a, b) {
-                    self.push_pair(a, b, excluded);
+                if boxes_meet(bodies, bodies.aabb, a, b) {
+                    push_pair(&mut self.pairs, a, b, excluded);
                 }
             }
         }
@@ -208,27 +276,29 @@ impl BroadPhase {
     fn wanted(bodies: &CollisionBodies<'_>, a: usize, b: usize) -> bool {
         (bodies.responds[a] || bodies.responds[b]) && (bodies.awake[a] || bodies.awake[b])
     }
+}
 
-    #[inline]
-    fn push_pair(&mut self, a: usize, b: usize, excluded: &[u64]) {
-        let (a, b) = if a < b { (a, b) } else { (b, a) };
-        let k = ((a as u64) << 32) | b as u64;
-        if excluded.binary_search(&k).is_err() {
-            self.pairs.push(k);
-        }
+/// Adds the pair of `a` and `b` to `pairs` as the key `a << 32 | b` (`a < b`) unless it is in
+/// `excluded` (sorted keys).
+#[inline]
+fn push_pair(pairs: &mut Vec<u64>, a: usize, b: usize, excluded: &[u64]) {
+    let (a, b) = if a < b { (a, b) } else { (b, a) };
+    let k = ((a as u64) << 32) | b as u64;
+    if excluded.binary_search(&k).is_err() {
+        pairs.push(k);
     }
 }
 
-/// Whether the boxes of bodies `a` and `b` overlap; against a half-space, whether the other
-/// box reaches into it.
+/// Whether the boxes `boxes` of bodies `a` and `b` overlap; against a half-space, whether the
+/// other box reaches into it.
 #[inline]
-fn boxes_meet(bodies: &CollisionBodies<'_>, a: usize, b: usize) -> bool {
+fn boxes_meet(bodies: &CollisionBodies<'_>, boxes: &[Aabb], a: usize, b: usize) -> bool {
     if bodies.shape[a].is_half_space() {
-        half_space_overlaps(bodies, a, &bodies.aabb[b])
+        half_space_overlaps(bodies, a, &boxes[b])
     } else if bodies.shape[b].is_half_space() {
-        half_space_overlaps(bodies, b, &bodies.aabb[a])
+        half_space_overlaps(bodies, b, &boxes[a])
     } else {
-        bodies.aabb[a].overlaps(&bodies.aabb[b])
+        boxes[a].overlaps(&boxes[b])
     }
 }
 
@@ -294,6 +364,59 @@ mod tests {
         every.all_pairs(&bodies, &excluded);
         assert!(every.pairs.len() > n, "the world is crowded enough to test");
         assert_eq!(grid.pairs, every.pairs);
+    }
+
+    /// Bodies that move within their grown boxes reuse the grid's pairs, which are then
+    /// exactly those that testing every pair finds; a body that moves out of its grown box
+    /// builds the grid again.
+    #[test]
+    fn kept_pairs_are_the_pairs_of_the_boxes_now() {
+        let n = 2 * ALL_PAIRS_BODIES;
+        let shape = vec![
+            Shape::Cuboid {
+                half: V3::repeat(0.5)
+            };
+            n
+        ];
+        // A row of unit boxes 1.01 m apart, each box grown by 5 mm: neighbours' boxes touch.
+        let place = |shift: &dyn Fn(usize) -> f64| -> Vec<Aabb> {
+            (0..n)
+                .map(|i| {
+                    let c = V3::new(1.01 * i as f64 + shift(i), 0.0, 0.0);
+                    Aabb {
+                        min: c - V3::repeat(0.505),
+                        max: c + V3::repeat(0.505),
+                    }
+                })
+                .collect()
+        };
+        let rot = vec![crate::geometry::M3::identity(); n];
+        let pos = vec![V3::zeros(); n];
+        let awake = vec![true; n];
+        let responds = vec![true; n];
+        let mut grid = BroadPhase::new(&shape);
+        let mut check = |aabbs: &[Aabb], built: bool| {
+            let bodies = CollisionBodies {
+                shape: &shape,
+                rot: &rot,
+                pos: &pos,
+                aabb: aabbs,
+                awake: &awake,
+                responds: &responds,
+            };
+            let before = grid.grown.clone();
+            grid.update(&bodies, &[]);
+            assert_eq!(grid.grown != before, built, "built the grid again");
+            let mut every = BroadPhase::new(&shape);
+            every.all_pairs(&bodies, &[]);
+            assert_eq!(grid.pairs, every.pairs);
+        };
+        check(&place(&|_| 0.0), true);
+        // Every odd box 2 cm to the right: within the grown boxes; boxes 2 and 3 and the like
+        // part (2 cm apart), and the grid is not built again.
+        check(&place(&|i| if i % 2 == 1 { 0.02 } else { 0.0 }), false);
+        // One box 6 cm away from its place: built again.
+        check(&place(&|i| if i == 7 { 0.06 } else { 0.0 }), true);
     }
 
     #[test]

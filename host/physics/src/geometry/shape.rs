@@ -67,6 +67,17 @@ impl Aabb {
             && o.min.z <= self.max.z
     }
 
+    /// Whether `o` lies within this box (closed).
+    #[inline]
+    pub fn contains(&self, o: &Aabb) -> bool {
+        self.min.x <= o.min.x
+            && self.min.y <= o.min.y
+            && self.min.z <= o.min.z
+            && o.max.x <= self.max.x
+            && o.max.y <= self.max.y
+            && o.max.z <= self.max.z
+    }
+
     /// Grown by `m` on every side.
     #[inline]
     pub fn loosened(&self, m: f64) -> Aabb {

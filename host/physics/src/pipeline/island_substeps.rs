@@ -69,6 +69,15 @@ pub(crate) struct IslandSubsteps {
     below: Vec<u32>,
     /// Whether a moving body stands alone on another ([`IslandSubsteps::stacked`]).
     stacked: bool,
+    /// Per body that stands alone on a loaded contact: its column's weight times the height
+    /// of the column's centre of mass above the contact, over the contact's stiffness
+    /// against tilting (–).
+    rocking_ratio: Vec<f64>,
+    /// Per body: the sum of the rocking ratios from it down to the body its column stands on
+    /// (NaN: not summed yet).
+    rocking_sum: Vec<f64>,
+    /// The largest rocking ratio of a column ([`IslandSubsteps::rocking`]).
+    rocking: f64,
     /// Per body: how many bodies stand on it alone whose columns it has not gathered yet.
     standing: Vec<u32>,
     /// Bodies whose columns are complete, to be added to the bodies below them.
@@ -155,6 +164,19 @@ impl IslandSubsteps {
     /// (a column of two or more bodies).
     pub(crate) fn stacked(&self) -> bool {
         self.stacked
+    }
+
+    /// The largest rocking ratio of a column at the last [`IslandSubsteps::leans`] (–; 0:
+    /// no column). A column of bodies standing alone on one another stays upright while its
+    /// contacts' stiffness against tilting (`ContactConstraint::rocking_stiffness`) outweighs
+    /// the turn its weight gives a tilt: each contact alone holds up to the weight `k / d`
+    /// above it, `k` its stiffness against tilting and `d` the height of the column's centre
+    /// of mass above it, and by Dunkerley's sum, a lower bound on a column's buckling load,
+    /// the column holds while the sum of `W d / k` over its contacts down to its base stays
+    /// below 1. This is that sum, the largest over the columns; at a ratio `r` a tilt grows
+    /// `1 / (1 − r)` times under the column's own weight.
+    pub(crate) fn rocking(&self) -> f64 {
+        self.rocking
     }
 
     /// Whether an island holds a stiffness factor above 1 from its last steps.
@@ -303,6 +325,7 @@ impl IslandSubsteps {
             self.lean.clear();
             self.lean.resize(n, 0.0);
             self.stacked = false;
+            self.rocking = 0.0;
             return 0.0;
         }
         // Each body's own column, and the body it stands on alone (`NONE`: none).
@@ -358,6 +381,8 @@ impl IslandSubsteps {
         // supports.
         self.lean.clear();
         self.lean.resize(n, 0.0);
+        self.rocking_ratio.clear();
+        self.rocking_ratio.resize(n, 0.0);
         let mut most: f64 = 0.0;
         for i in 0..n {
             let (count, ci) = self.supports[i];
@@ -367,19 +392,63 @@ impl IslandSubsteps {
             let c = &constraints[ci as usize];
             let col = self.column[i];
             let hz = loads.stiffness.hertz_for(c.against_static, c.mass_ratio());
+            let omega = 2.0 * std::f64::consts::PI * hz;
             let origin = bodies.pos[c.a];
-            let tilt = c.column_tilt(
-                &origin,
-                &(col.moment / col.mass),
-                col.mass * loads.gravity,
-                &up,
-                2.0 * std::f64::consts::PI * hz,
-            );
+            let com = col.moment / col.mass;
+            let weight = col.mass * loads.gravity;
+            let at = up.dot(&(origin + c.anchor_a()));
+            let tilt = c.column_tilt(&origin, &com, weight, &up, omega);
             if tilt > 0.0 {
-                let at = up.dot(&(origin + c.anchor_a()));
                 self.lean[i] = tilt * (col.top - at).max(0.0);
                 most = most.max(self.lean[i]);
             }
+            let k = c.rocking_stiffness(&up, omega);
+            let arm = (up.dot(&com) - at).max(0.0);
+            self.rocking_ratio[i] = if k > 0.0 {
+                weight * arm / k
+            } else {
+                f64::INFINITY
+            };
+        }
+        self.rocking = self.rocking_sums();
+        most
+    }
+
+    /// Sums each column's rocking ratios from each body down to the body the column stands
+    /// on (each body once), and returns the largest sum.
+    fn rocking_sums(&mut self) -> f64 {
+        let n = self.below.len();
+        self.rocking_sum.clear();
+        self.rocking_sum.resize(n, f64::NAN);
+        let mut most: f64 = 0.0;
+        for top in 0..n {
+            // Down to the first body already summed, or the column's base; the bodies on the
+            // way are marked (−∞) so that a loop, which no resting stack makes, ends.
+            self.order.clear();
+            let mut i = top;
+            let mut sum = 0.0;
+            loop {
+                let s = self.rocking_sum[i];
+                if s == f64::NEG_INFINITY {
+                    break;
+                }
+                if !s.is_nan() {
+                    sum = s;
+                    break;
+                }
+                self.rocking_sum[i] = f64::NEG_INFINITY;
+                self.order.push(i as u32);
+                match self.below[i] {
+                    NONE => break,
+                    below => i = below as usize,
+                }
+            }
+            // Back up: each body its own ratio on the sum below it.
+            while let Some(k) = self.order.pop() {
+                sum += self.rocking_ratio[k as usize];
+                self.rocking_sum[k as usize] = sum;
+            }
+            most = most.max(sum);
         }
         most
     }

@@ -144,6 +144,18 @@ impl SolverSettings {
         }
     }
 
+    /// The contacts' stiffness on substeps of `h` (s) in a step of `dt` (s):
+    /// [`Self::contact_stiffness`], except that substeps longer than the step's own (a world
+    /// at rest on fewer, `pipeline/resting_substeps.rs`) keep a contact against a body that
+    /// does not move within [`resting_substeps::RESTING_STATIC_CAP`] of their rate.
+    fn stiffness_on(&self, h: f64, dt: f64) -> ContactStiffness {
+        let mut k = self.contact_stiffness(h);
+        if h > 1.5 * dt / self.substeps as f64 {
+            k.static_hertz = k.static_hertz.min(resting_substeps::RESTING_STATIC_CAP / h);
+        }
+        k
+    }
+
     /// The factors `(linear, angular)` (–) the `damping` effect scales the velocities by over
     /// a substep of `h` (s): `1 / (1 + h c)` for each damping rate `c`.
     fn damping_factors(&self, h: f64) -> (f64, f64) {
@@ -591,7 +603,7 @@ impl World {
         };
         self.fine_factor = 1;
         if self.settings.soft_contacts {
-            let stiffness = self.settings.contact_stiffness(h);
+            let stiffness = self.settings.stiffness_on(h, dt);
             for c in &mut self.constraints {
                 c.stiffen(&stiffness);
             }
@@ -961,7 +973,7 @@ impl World {
             &self.constraints,
             &mut self.island_substeps,
             &world,
-            |n| settings.contact_stiffness(dt / n as f64),
+            |n| settings.stiffness_on(dt / n as f64, dt),
         )
     }
 
@@ -1039,14 +1051,25 @@ impl World {
         let reach = self.settings.speculative_distance;
         let fine = &self.fine_constraint;
         let substep = |ci: usize| if fine[ci] { fine_h } else { h };
-        if let Some(up) = &hold_up {
-            let settings = &self.settings;
+        let mut changed = false;
+        for (ci, c) in self.constraints.iter_mut().enumerate() {
+            let carried = narrow.manifolds[c.manifold].impulse_substep;
+            let now = substep(ci);
+            if carried > 0.0 && carried != now {
+                c.scale_impulses(now / carried);
+                changed = true;
+            }
+        }
+        // The holds follow the stiffness where the substep changed (the manifolds keep the
+        // substep their impulses were carried over until the store).
+        if let (Some(up), true) = (&hold_up, changed) {
+            let (settings, dt) = (&self.settings, self.dt);
             let changes = |ci: usize, m: &Manifold| {
                 let (carried, now) = (m.impulse_substep, substep(ci));
                 (carried > 0.0 && carried != now).then(|| {
                     (
-                        settings.contact_stiffness(carried),
-                        settings.contact_stiffness(now),
+                        settings.stiffness_on(carried, dt),
+                        settings.stiffness_on(now, dt),
                     )
                 })
             };
@@ -1057,13 +1080,6 @@ impl World {
                 (self.bodies.len(), reach),
                 up,
             );
-        }
-        for (ci, c) in self.constraints.iter_mut().enumerate() {
-            let carried = narrow.manifolds[c.manifold].impulse_substep;
-            let now = substep(ci);
-            if carried > 0.0 && carried != now {
-                c.scale_impulses(now / carried);
-            }
         }
     }
 

@@ -598,6 +598,35 @@ impl ContactConstraint {
         weight / stiffness / span
     }
 
+    /// The contact's stiffness against tilting (N·m/rad) at stiffness `omega` (rad/s): its
+    /// normal rows, each a spring of its effective mass `m ω²`, resist a turn of the body on
+    /// top about the points' centroid by `Σ m ω² s sᵀ`, `s` each point's offset from the
+    /// centroid across `up`; the least of that in the plane across `up`. Zero for a contact on
+    /// one point or along a line, which holds no column upright.
+    pub(crate) fn rocking_stiffness(&self, up: &V3, omega: f64) -> f64 {
+        let points = &self.points[..self.len];
+        if points.len() < 3 {
+            return 0.0;
+        }
+        let [e1, e2] = tangent_basis(up);
+        let centroid = points.iter().map(|p| p.ra).sum::<V3>() / points.len() as f64;
+        let (mut a, mut b, mut d) = (0.0, 0.0, 0.0);
+        for p in points {
+            let s = p.ra - centroid;
+            let (x, y) = (s.dot(&e1), s.dot(&e2));
+            let k = p.n.mass * omega * omega;
+            a += k * x * x;
+            b += k * x * y;
+            d += k * y * y;
+        }
+        let least = 0.5 * (a + d) - (0.25 * (a - d) * (a - d) + b * b).sqrt();
+        if least.is_finite() {
+            least.max(0.0)
+        } else {
+            0.0
+        }
+    }
+
     /// The overlap (m) at which this contact's most loaded point settles under the load it
     /// carried, at stiffness `omega` (rad/s): its carried normal impulse `λ`, accumulated over
     /// the manifold's `impulse_substep` (s), is the force `λ / h`, and a soft row of effective
