@@ -26,10 +26,6 @@ pub struct ContactPoint {
     pub tangent_impulse: [f64; 2],
     /// Largest normal impulse applied in the last step (N·s): the contact's "hit" strength.
     pub max_normal_impulse: f64,
-    /// Overlap (m) the contact is solved as if it had beyond its own: the sink its load
-    /// leaves in a soft contact, learned step after step, so a resting stack stands at its
-    /// slop instead of sinking.
-    pub held_overlap: f64,
 }
 
 /// The contact between a shape of one body and a shape of another: a shared normal and up to
@@ -60,6 +56,10 @@ pub struct Manifold {
     /// The substep (s) over which the carried impulses were accumulated (they are per
     /// substep); 0 when none were.
     pub impulse_substep: f64,
+    /// Overlap (m) each point is solved as if it had beyond its own: the sink the contact's
+    /// load leaves in a soft contact, learned step after step, so a resting stack stands at
+    /// its slop instead of sinking (`pipeline/sink_hold.rs`).
+    pub held_overlap: f64,
     /// Where B lay in A's frame when the points were collided; `None` for a manifold that is
     /// always collided again (compounds, round shapes, continuous collision).
     pub origin: Option<PairPose>,
@@ -85,6 +85,7 @@ impl Manifold {
             twist_impulse: 0.0,
             rolling_impulse: V3::zeros(),
             impulse_substep: 0.0,
+            held_overlap: 0.0,
             origin: None,
         }
     }

@@ -504,7 +504,6 @@ impl NarrowPhase {
                         best = d2;
                         c.normal_impulse = q.normal_impulse;
                         c.tangent_impulse = q.tangent_impulse;
-                        c.held_overlap = q.held_overlap;
                     }
                 }
             }
@@ -512,6 +511,7 @@ impl NarrowPhase {
         if let (Some(o), true) = (old, normal_kept) {
             m.friction_impulse = o.friction_impulse;
             m.twist_impulse = o.twist_impulse;
+            m.held_overlap = o.held_overlap;
         }
         if normal_kept {
             m.rolling_impulse = old.map_or(V3::zeros(), |o| o.rolling_impulse);

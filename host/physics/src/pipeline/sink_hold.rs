@@ -7,7 +7,7 @@
 //!
 //! Each step, each loaded contact between free bodies adds a share of its mean overlap beyond
 //! the slop to the overlap it is solved as if it had beyond its own
-//! ([`ContactPoint::held_overlap`]). That is an integral of the sink: a resting contact comes
+//! ([`Manifold::held_overlap`]). That is an integral of the sink: a resting contact comes
 //! to push as its load asks with its bodies at the slop, whatever its stiffness, and the
 //! tower's sink falls to the slop of its 20 contacts (2 mm). The share is the step over
 //! [`HOLD_TIME`], so the hold takes up a steady sink in about that time at any step.
@@ -47,7 +47,15 @@ pub const HOLD_TIME: f64 = 0.25;
 pub(crate) struct SinkHold {
     /// Per body: the sum over its loaded supports of their new holds (m), and how many.
     sums: Vec<(f64, u32)>,
+    /// Per manifold, from the first pass: the body it holds up, [`UNTOUCHED`] or
+    /// [`LET_GO`].
+    picks: Vec<u32>,
 }
+
+/// A manifold the update leaves as it is.
+const UNTOUCHED: u32 = u32::MAX;
+/// A manifold that holds nothing.
+const LET_GO: u32 = u32::MAX - 1;
 
 /// The body a weight-bearing contact holds up: the one its normal points to along `up`.
 fn upper(m: &Manifold, up: &V3) -> usize {
@@ -85,7 +93,7 @@ impl SinkHold {
             |m| held(m).then(|| holds(m, up)),
             bodies,
             |m| {
-                let held = m.points()[0].held_overlap;
+                let held = m.held_overlap;
                 held + share * (mean_overlap(m) - LINEAR_SLOP)
             },
             reach,
@@ -126,7 +134,7 @@ impl SinkHold {
             let m = &manifolds[c.manifold];
             if let (Some(d), true) = (change(ci, c, m), holds(m, up)) {
                 let s = &mut sums[upper(m, up)];
-                s.0 += m.points()[0].held_overlap + mean_overlap(m) + d - LINEAR_SLOP;
+                s.0 += m.held_overlap + mean_overlap(m) + d - LINEAR_SLOP;
                 s.1 += 1;
                 seen += 1;
             }
@@ -141,12 +149,10 @@ impl SinkHold {
             }
             let (sum, count) = sums[upper(m, up)];
             let now = (sum / count as f64).clamp(0.0, reach.max(0.0));
-            let held = m.points()[0].held_overlap;
+            let held = m.held_overlap;
             if now.is_finite() && now != held {
                 c.deepen(now - held);
-                for p in &mut m.points[..m.len] {
-                    p.held_overlap = now;
-                }
+                m.held_overlap = now;
             }
         }
     }
@@ -166,28 +172,31 @@ impl SinkHold {
         let sums = &mut self.sums;
         sums.clear();
         sums.resize(bodies, (0.0, 0));
+        self.picks.clear();
         for m in manifolds.iter() {
-            if m.len > 0 && picked(m) == Some(true) {
-                let s = &mut sums[upper(m, up)];
-                s.0 += wanted(m);
-                s.1 += 1;
-            }
-        }
-        for m in manifolds.iter_mut() {
-            if m.len == 0 {
-                continue;
-            }
-            let now = match picked(m) {
-                None => continue,
-                Some(false) => 0.0,
+            let pick = match (m.len > 0).then(|| picked(m)).flatten() {
+                None => UNTOUCHED,
+                Some(false) => LET_GO,
                 Some(true) => {
-                    let (sum, count) = sums[upper(m, up)];
+                    let u = upper(m, up);
+                    let s = &mut sums[u];
+                    s.0 += wanted(m);
+                    s.1 += 1;
+                    u as u32
+                }
+            };
+            self.picks.push(pick);
+        }
+        for (m, &pick) in manifolds.iter_mut().zip(&self.picks) {
+            let now = match pick {
+                UNTOUCHED => continue,
+                LET_GO => 0.0,
+                u => {
+                    let (sum, count) = sums[u as usize];
                     (sum / count as f64).clamp(0.0, reach.max(0.0))
                 }
             };
-            for p in &mut m.points[..m.len] {
-                p.held_overlap = now;
-            }
+            m.held_overlap = now;
         }
     }
 }
@@ -217,11 +226,11 @@ mod tests {
             *p = ContactPoint {
                 separation: s,
                 normal_impulse: impulse,
-                held_overlap: held,
                 ..ContactPoint::default()
             };
         }
         m.len = separations.len();
+        m.held_overlap = held;
         m
     }
 
@@ -235,12 +244,14 @@ mod tests {
         let s = -(1e-3 + LINEAR_SLOP);
         let mut ms = [manifold(0, 1, &[s; 4], 0.1, 0.0)];
         update(&mut ms, 0.1 * HOLD_TIME);
-        for p in ms[0].points() {
-            assert!((p.held_overlap - 1e-4).abs() < 1e-15, "{}", p.held_overlap);
-        }
+        assert!(
+            (ms[0].held_overlap - 1e-4).abs() < 1e-15,
+            "{}",
+            ms[0].held_overlap
+        );
         // A step as long as the hold time takes all of it, on top of what was held.
         update(&mut ms, HOLD_TIME);
-        assert!((ms[0].points[0].held_overlap - 1.1e-3).abs() < 1e-15);
+        assert!((ms[0].held_overlap - 1.1e-3).abs() < 1e-15);
     }
 
     #[test]
@@ -254,28 +265,28 @@ mod tests {
             manifold(2, 3, &[s - 4e-3; 4], 0.1, 0.0),
         ];
         update(&mut ms, HOLD_TIME);
-        for p in ms[0].points().iter().chain(ms[1].points()) {
-            assert!((p.held_overlap - 1e-3).abs() < 1e-15, "{}", p.held_overlap);
+        for m in &ms[..2] {
+            assert!((m.held_overlap - 1e-3).abs() < 1e-15, "{}", m.held_overlap);
         }
-        assert!((ms[2].points[0].held_overlap - 4e-3).abs() < 1e-15);
+        assert!((ms[2].held_overlap - 4e-3).abs() < 1e-15);
         // Lifted 0.5 mm above the slop: the hold gives back that much.
         let mut ms = [manifold(0, 1, &[s + 5e-4; 4], 0.1, 1e-3)];
         update(&mut ms, HOLD_TIME);
-        assert!((ms[0].points[0].held_overlap - 5e-4).abs() < 1e-15);
+        assert!((ms[0].held_overlap - 5e-4).abs() < 1e-15);
     }
 
     #[test]
     fn an_unloaded_contact_holds_nothing_and_a_hold_stays_within_reach() {
         let mut ms = [manifold(0, 1, &[-5e-3; 2], 0.0, 3e-3)];
         update(&mut ms, 1.0 / 60.0);
-        assert!(ms[0].points().iter().all(|p| p.held_overlap == 0.0));
+        assert_eq!(ms[0].held_overlap, 0.0);
         let mut ms = [manifold(0, 1, &[-0.5; 2], 1.0, 0.0)];
         update(&mut ms, 1.0);
-        assert!(ms[0].points().iter().all(|p| p.held_overlap == 0.02));
+        assert_eq!(ms[0].held_overlap, 0.02);
         // Never below zero, far apart.
         let mut ms = [manifold(0, 1, &[0.5; 2], 1.0, 1e-3)];
         update(&mut ms, 1.0);
-        assert!(ms[0].points().iter().all(|p| p.held_overlap == 0.0));
+        assert_eq!(ms[0].held_overlap, 0.0);
     }
 
     #[test]
@@ -286,7 +297,7 @@ mod tests {
             let a = degrees.to_radians();
             ms[0].normal = V3::new(a.sin(), 0.0, a.cos());
             update(&mut ms, HOLD_TIME);
-            assert_eq!(ms[0].points[0].held_overlap > 0.0, holds, "{degrees}°");
+            assert_eq!(ms[0].held_overlap > 0.0, holds, "{degrees}°");
         }
     }
 
@@ -294,6 +305,6 @@ mod tests {
     fn a_manifold_the_step_does_not_solve_keeps_its_hold() {
         let mut ms = [manifold(0, 1, &[-2e-3; 4], 0.1, 7e-4)];
         SinkHold::default().update(&mut ms, |_| false, (2, HOLD_TIME, 0.02), &UP);
-        assert_eq!(ms[0].points[0].held_overlap, 7e-4);
+        assert_eq!(ms[0].held_overlap, 7e-4);
     }
 }

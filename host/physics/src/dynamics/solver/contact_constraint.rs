@@ -362,7 +362,7 @@ impl ContactConstraint {
                 ja: ra.cross(&n),
                 jb: rb.cross(&n),
                 n: Row::new(&ra, &rb, &n, ima, imb, &ia, &ib),
-                separation: cp.separation - cp.held_overlap,
+                separation: cp.separation - m.held_overlap,
                 relative_velocity: n.dot(&dv),
                 normal_impulse: cp.normal_impulse,
                 max_normal_impulse: 0.0,
