@@ -127,6 +127,10 @@ enum Cmd {
         /// the sink of resting contacts.
         #[arg(long)]
         no_sink_hold: bool,
+        /// Build the broad phase's grid every step, instead of keeping its pairs while the
+        /// bodies' boxes stay in place.
+        #[arg(long)]
+        rebuild_broad_phase: bool,
     },
     /// Cost of each effect added to a base scene, and of the same effect undeclared.
     Effects {
@@ -253,6 +257,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             fixed_substeps,
             contact_warm_start,
             no_sink_hold,
+            rebuild_broad_phase,
         } => run::bench(
             &scene,
             steps,
@@ -267,6 +272,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 fixed_substeps,
                 contact_warm_start,
                 no_sink_hold,
+                rebuild_broad_phase,
             },
         ),
     }

@@ -198,6 +198,8 @@ pub struct SolverOverrides {
     pub contact_warm_start: bool,
     /// Contacts settle at their loads' overlap (no sink hold).
     pub no_sink_hold: bool,
+    /// The broad phase's grid built every step.
+    pub rebuild_broad_phase: bool,
 }
 
 /// `vphys bench`: ms per step and the drift of the boxes, as one JSON object.
@@ -237,6 +239,9 @@ pub fn bench(
     if overrides.no_sink_hold {
         w.settings_mut().hold_sink = false;
     }
+    if overrides.rebuild_broad_phase {
+        w.settings_mut().keep_broad_phase_pairs = false;
+    }
     if let Some(cap) = overrides.hertz_cap {
         anyhow::ensure!(
             cap.is_finite() && cap > 0.0,
@@ -268,6 +273,7 @@ pub fn bench(
         "fewer_substeps_at_rest": w.settings().fewer_substeps_at_rest,
         "replay_warm_start": w.settings().replay_warm_start,
         "hold_sink": w.settings().hold_sink,
+        "keep_broad_phase_pairs": w.settings().keep_broad_phase_pairs,
         "contact_hertz": w.settings().contact_hertz,
         "soft_contacts": w.settings().soft_contacts,
         "batch_contacts": w.settings().batch_contacts,

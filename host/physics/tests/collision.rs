@@ -207,7 +207,7 @@ fn grid_broad_phase_equals_brute_force() {
         responds: &awake,
     };
     let mut bp = BroadPhase::new(&shape);
-    bp.update(&bodies, &[]);
+    bp.update(&bodies, &[], true);
     let mut brute = Vec::new();
     for a in 0..shape.len() {
         for b in a + 1..shape.len() {

@@ -131,14 +131,16 @@ impl BroadPhase {
 
     /// Recomputes `pairs` from the bodies' `aabb`. Pairs of two bodies that do not respond to
     /// contacts (`responds`), of two bodies that are both not awake, and pairs in `excluded`
-    /// (sorted keys) are skipped. Returns the number of box–box overlap tests made.
-    pub fn update(&mut self, bodies: &CollisionBodies<'_>, excluded: &[u64]) -> usize {
+    /// (sorted keys) are skipped. With `keep`, the grid's last pairs are reused while every
+    /// box stays within its grown box; without, the grid is built every time (the same
+    /// pairs). Returns the number of box–box overlap tests made.
+    pub fn update(&mut self, bodies: &CollisionBodies<'_>, excluded: &[u64], keep: bool) -> usize {
         self.pairs.clear();
         if bodies.len() <= ALL_PAIRS_BODIES {
             return self.all_pairs(bodies, excluded);
         }
         let mut tests = 0;
-        if !self.still_within(bodies, excluded) {
+        if !keep || !self.still_within(bodies, excluded) {
             self.grown.clear();
             self.grown
                 .extend(bodies.aabb.iter().map(|b| b.loosened(REUSE_MARGIN)));
@@ -359,7 +361,7 @@ mod tests {
         };
         let excluded = [(3u64 << 32) | 4];
         let mut grid = BroadPhase::new(&shape);
-        grid.update(&bodies, &excluded);
+        grid.update(&bodies, &excluded, true);
         let mut every = BroadPhase::new(&shape);
         every.all_pairs(&bodies, &excluded);
         assert!(every.pairs.len() > n, "the world is crowded enough to test");
@@ -405,7 +407,7 @@ mod tests {
                 responds: &responds,
             };
             let before = grid.grown.clone();
-            grid.update(&bodies, &[]);
+            grid.update(&bodies, &[], true);
             assert_eq!(grid.grown != before, built, "built the grid again");
             let mut every = BroadPhase::new(&shape);
             every.all_pairs(&bodies, &[]);

@@ -126,6 +126,11 @@ pub struct SolverSettings {
     /// contacts' stiffness (`pipeline/sink_hold.rs`; default). Off, a soft contact settles at
     /// the overlap its load asks, `F / (m ω²)`.
     pub hold_sink: bool,
+    /// Keep the broad phase's pairs while every body's box stays within 5 cm of where the
+    /// grid was built, taking from them the pairs whose boxes overlap now
+    /// (`geometry/broad_phase.rs`; default). Off, the grid is built every step: the same
+    /// pairs.
+    pub keep_broad_phase_pairs: bool,
 }
 
 impl SolverSettings {
@@ -154,6 +159,15 @@ impl SolverSettings {
             k.static_hertz = k.static_hertz.min(resting_substeps::RESTING_STATIC_CAP / h);
         }
         k
+    }
+
+    /// The unit vector against `gravity` (m/s², world) where the contacts hold their sink
+    /// (soft contacts under declared gravity, [`Self::hold_sink`]; `pipeline/sink_hold.rs`),
+    /// `None` where they do not.
+    fn hold_up(&self, effects: &Effects, gravity: &V3) -> Option<V3> {
+        let g = gravity.norm();
+        (self.hold_sink && self.soft_contacts && effects.has(Effect::Gravity) && g > 0.0)
+            .then(|| -gravity / g)
     }
 
     /// The factors `(linear, angular)` (–) the `damping` effect scales the velocities by over
@@ -188,6 +202,7 @@ impl Default for SolverSettings {
             fewer_substeps_at_rest: true,
             replay_warm_start: true,
             hold_sink: true,
+            keep_broad_phase_pairs: true,
         }
     }
 }
@@ -448,8 +463,11 @@ impl World {
             if ccd {
                 self.counters.mark(Stage::ContinuousCollision);
             }
-            self.counters.broad_phase_tests =
-                broad.update(&b.collision_view(), &self.excluded_pairs);
+            self.counters.broad_phase_tests = broad.update(
+                &b.collision_view(),
+                &self.excluded_pairs,
+                self.settings.keep_broad_phase_pairs,
+            );
             self.counters.broad_phase_pairs = broad.pairs.len();
             let bodies = &*b;
             let motion = ccd.then_some(BodyMotion {
@@ -489,13 +507,7 @@ impl World {
                 restitution_threshold: self.settings.restitution_threshold,
                 max_push_velocity: self.settings.max_push_velocity,
             };
-            // Against gravity, where the sink is held (`pipeline/sink_hold.rs`).
-            let g = self.gravity.norm();
-            let hold_up = (self.settings.hold_sink
-                && self.settings.soft_contacts
-                && eff.has(Effect::Gravity)
-                && g > 0.0)
-                .then(|| -self.gravity / g);
+            let hold_up = self.settings.hold_up(&self.effects, &self.gravity);
             if let Some(up) = &hold_up {
                 let (bodies, proxies) = (&self.bodies, &self.proxies);
                 let solved = |m: &Manifold| {
@@ -1042,12 +1054,7 @@ impl World {
             return;
         };
         let fine_h = h / self.fine_factor as f64;
-        let g = self.gravity.norm();
-        let hold_up = (self.settings.hold_sink
-            && self.settings.soft_contacts
-            && self.effects.has(Effect::Gravity)
-            && g > 0.0)
-            .then(|| -self.gravity / g);
+        let hold_up = self.settings.hold_up(&self.effects, &self.gravity);
         let reach = self.settings.speculative_distance;
         let fine = &self.fine_constraint;
         let substep = |ci: usize| if fine[ci] { fine_h } else { h };
