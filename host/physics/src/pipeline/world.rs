@@ -441,6 +441,12 @@ impl World {
             }
         }
         let mut prepared = 0;
+        // Each constraint is coloured and its lane filled as soon as it is prepared, while it
+        // is in cache (`ContactBatches::add`).
+        let batch = self.settings.batch_contacts;
+        if batch {
+            self.batches.begin(self.bodies.len());
+        }
         // Whether a contact follows a round part's turn: its rows change within the step.
         let mut follows = false;
         self.tree_contacts.clear();
@@ -551,6 +557,9 @@ impl World {
                         }
                     };
                     follows |= c.follows_turn();
+                    if batch {
+                        self.batches.add(prepared, c);
+                    }
                     prepared += 1;
                 }
             }
@@ -563,6 +572,9 @@ impl World {
         }
         // Last step's constraints beyond this step's (all of them without collision).
         self.constraints.truncate(prepared);
+        if batch {
+            self.batches.finish();
+        }
         let joints_on = eff.has(Effect::Joints) && !self.joints.is_empty();
         if joints_on {
             self.counters.mark(Stage::JointSolve);
@@ -616,8 +628,9 @@ impl World {
         self.fine_factor = 1;
         if self.settings.soft_contacts {
             let stiffness = self.settings.stiffness_on(h, dt);
-            for c in &mut self.constraints {
+            for (ci, c) in self.constraints.iter_mut().enumerate() {
                 c.stiffen(&stiffness);
+                self.batches.set_softness(ci, c);
             }
             // A world that takes fewer substeps at rest leans within the tolerance at their
             // stiffness, and holds no island's factor: no island needs more.
@@ -625,13 +638,18 @@ impl World {
                 self.plan_island_substeps(&stiffness, n_sub);
             }
         } else {
-            for c in &mut self.constraints {
+            for (ci, c) in self.constraints.iter_mut().enumerate() {
                 c.set_softness(soft);
+                self.batches.set_softness(ci, c);
             }
         }
-        self.carry_impulses_to_substeps(h);
-        self.batched = self.settings.batch_contacts && !self.constraints.is_empty();
-        if self.batched {
+        let rescaled = self.carry_impulses_to_substeps(h);
+        self.batched = batch && !self.constraints.is_empty();
+        // The groups filled as the constraints were prepared hold them as they are now,
+        // unless an island took extra substeps (its constraints go to their own groups,
+        // stiffer) or carried impulses were rescaled to a changed substep: then they are
+        // grouped again from the constraints.
+        if self.batched && (rescaled || self.fine_factor > 1) {
             let fine = &self.fine_constraint;
             self.batches
                 .build_of(&self.constraints, self.bodies.len(), |ci| !fine[ci]);
@@ -639,6 +657,8 @@ impl World {
                 self.fine_batches
                     .build_of(&self.constraints, self.bodies.len(), |ci| fine[ci]);
             }
+        }
+        if self.batched {
             self.counters.contact_colours = self.batches.colours;
             self.counters.contact_groups = self.batches.groups();
         }
@@ -1027,11 +1047,12 @@ impl World {
             }
         };
         self.fine_constraint.clear();
-        for c in &mut self.constraints {
+        for (ci, c) in self.constraints.iter_mut().enumerate() {
             let body = if c.ima > 0.0 { c.a } else { c.b };
             let k = self.island_substeps.fine[body];
             if k > 1 {
                 c.stiffen(&stiffer(k));
+                self.batches.set_softness(ci, c);
             }
             self.fine_constraint.push(k > 1 && substeps > 1);
         }
@@ -1044,14 +1065,14 @@ impl World {
 
     /// Scales each constraint's carried impulses from the substep they were accumulated over
     /// to the one it takes this step (`h`, or `h / fine_factor` in an island with extra
-    /// substeps).
-    fn carry_impulses_to_substeps(&mut self, h: f64) {
+    /// substeps); whether any were rescaled.
+    fn carry_impulses_to_substeps(&mut self, h: f64) -> bool {
         if self.fine_factor <= 1 {
             self.fine_constraint.clear();
             self.fine_constraint.resize(self.constraints.len(), false);
         }
         let Some(narrow) = self.narrow.as_mut() else {
-            return;
+            return false;
         };
         let fine_h = h / self.fine_factor as f64;
         let hold_up = self.settings.hold_up(&self.effects, &self.gravity);
@@ -1088,6 +1109,7 @@ impl World {
                 up,
             );
         }
+        changed
     }
 
     /// The extra substeps of the islands that take them: `substeps` of `h` (s) over their

@@ -24,9 +24,6 @@ use crate::geometry::{Manifold, MAX_MANIFOLD_POINTS, V3};
 /// Colours tried before a constraint is left to the scalar solve.
 const MAX_COLOURS: usize = 24;
 
-/// A constraint in no group.
-const NO_SLOT: u32 = u32::MAX;
-
 /// One row of four constraints' points.
 #[derive(Clone, Copy, Debug, Default)]
 struct RowLanes {
@@ -382,20 +379,43 @@ struct LaneImpulses {
     twist: f64,
 }
 
+/// Where a grouped constraint sits: its colour, its group within the colour and its lane.
+#[derive(Clone, Copy, Debug)]
+struct Slot {
+    colour: u16,
+    lane: u16,
+    group: u32,
+}
+
+/// A constraint in no group.
+const NO_SLOT: Slot = Slot {
+    colour: u16::MAX,
+    lane: 0,
+    group: 0,
+};
+
 /// The step's contact constraints, coloured and grouped four by four.
+///
+/// Built one constraint at a time ([`ContactBatches::begin`], [`ContactBatches::add`],
+/// [`ContactBatches::finish`]) so that the world fills each constraint's lane right after
+/// preparing it, while the constraint is still in cache: filled from the whole prepared
+/// array afterwards, the fill read every constraint back from memory.
 #[derive(Debug, Default)]
 pub struct ContactBatches {
-    /// Group buffers, kept across steps; the first `live` are this step's.
-    groups: Vec<ContactGroup>,
-    live: usize,
+    /// Per colour, its group buffers, kept across steps; the first
+    /// `members[k].div_ceil(WIDTH)` are this step's. Each colour's groups lie side by side
+    /// in the order they are solved.
+    colour_groups: Vec<Vec<ContactGroup>>,
+    /// Per colour, the constraints it holds this step.
+    members: Vec<usize>,
     /// Constraints solved one at a time (rolling resistance, or no colour free).
     pub scalar: Vec<usize>,
     /// Colours used in the last build.
     pub colours: usize,
+    /// Per colour, a bit per body: the moving bodies it holds.
     used: Vec<Vec<u64>>,
-    members: Vec<Vec<usize>>,
-    /// Per constraint: its group times [`WIDTH`] plus its lane ([`NO_SLOT`]: none).
-    slot: Vec<u32>,
+    /// Per constraint added, where it sits ([`NO_SLOT`]: in no group).
+    slot: Vec<Slot>,
 }
 
 impl ContactBatches {
@@ -412,107 +432,163 @@ impl ContactBatches {
         n_bodies: usize,
         include: impl Fn(usize) -> bool,
     ) {
-        self.live = 0;
+        self.begin(n_bodies);
+        for (ci, c) in constraints.iter().enumerate() {
+            if include(ci) {
+                self.add(ci, c);
+            } else {
+                self.skip(ci);
+            }
+        }
+        self.finish();
+    }
+
+    /// Starts a build over `n_bodies` bodies; the constraints follow in their index order
+    /// through [`Self::add`] or [`Self::skip`].
+    pub fn begin(&mut self, n_bodies: usize) {
         self.scalar.clear();
         self.colours = 0;
+        self.slot.clear();
         let words = n_bodies.div_ceil(64);
         if self.used.len() < MAX_COLOURS {
             self.used.resize(MAX_COLOURS, Vec::new());
-            self.members.resize(MAX_COLOURS, Vec::new());
+            self.members.resize(MAX_COLOURS, 0);
+            self.colour_groups.resize_with(MAX_COLOURS, Vec::new);
         }
         for (u, m) in self.used.iter_mut().zip(&mut self.members) {
             u.clear();
             u.resize(words, 0);
-            m.clear();
+            *m = 0;
+        }
+    }
+
+    /// Constraint `ci` (the next index) is not in this build.
+    pub fn skip(&mut self, ci: usize) {
+        debug_assert_eq!(ci, self.slot.len());
+        self.slot.push(NO_SLOT);
+    }
+
+    /// Adds constraint `ci` (the next index): the first colour in which neither of its
+    /// moving bodies is used yet takes it, in the next lane of that colour's last group,
+    /// filled now; constraints no colour can take, or with rolling resistance or rows that
+    /// follow a turn, go to [`Self::scalar`]. Its softness may still change
+    /// ([`Self::set_softness`]).
+    pub fn add(&mut self, ci: usize, c: &ContactConstraint) {
+        debug_assert_eq!(ci, self.slot.len());
+        if c.rolling_arm > 0.0 || c.follows {
+            self.scalar.push(ci);
+            self.slot.push(NO_SLOT);
+            return;
         }
         let bit = |i: usize| (i / 64, 1u64 << (i % 64));
-        for (ci, c) in constraints.iter().enumerate() {
-            if !include(ci) {
-                continue;
-            }
-            if c.rolling_arm > 0.0 || c.follows {
-                self.scalar.push(ci);
-                continue;
-            }
-            let moving_a = (c.ima > 0.0).then(|| bit(c.a));
-            let moving_b = (c.imb > 0.0).then(|| bit(c.b));
-            let free = |u: &Vec<u64>| {
-                moving_a.is_none_or(|(w, m)| u[w] & m == 0)
-                    && moving_b.is_none_or(|(w, m)| u[w] & m == 0)
-            };
-            match self.used.iter().position(free) {
-                Some(k) => {
-                    let u = &mut self.used[k];
-                    for (w, m) in [moving_a, moving_b].into_iter().flatten() {
-                        u[w] |= m;
-                    }
-                    self.members[k].push(ci);
-                    self.colours = self.colours.max(k + 1);
-                }
-                None => self.scalar.push(ci),
-            }
+        let moving_a = (c.ima > 0.0).then(|| bit(c.a));
+        let moving_b = (c.imb > 0.0).then(|| bit(c.b));
+        let free = |u: &Vec<u64>| {
+            moving_a.is_none_or(|(w, m)| u[w] & m == 0)
+                && moving_b.is_none_or(|(w, m)| u[w] & m == 0)
+        };
+        let Some(k) = self.used.iter().position(free) else {
+            self.scalar.push(ci);
+            self.slot.push(NO_SLOT);
+            return;
+        };
+        let u = &mut self.used[k];
+        for (w, m) in [moving_a, moving_b].into_iter().flatten() {
+            u[w] |= m;
         }
-        let count: usize = self.members[..self.colours]
-            .iter()
-            .map(|m| m.len().div_ceil(WIDTH))
-            .sum();
-        if self.groups.len() < count {
-            self.groups.resize_with(count, Default::default);
+        self.colours = self.colours.max(k + 1);
+        let member = self.members[k];
+        self.members[k] += 1;
+        let (group, lane) = (member / WIDTH, member % WIDTH);
+        let groups = &mut self.colour_groups[k];
+        if groups.len() == group {
+            groups.push(ContactGroup::default());
         }
-        // Each member's group and lane; the unused lanes of a colour's last group zeroed.
-        self.slot.clear();
-        self.slot.resize(constraints.len(), NO_SLOT);
-        let mut first = 0;
-        for m in &self.members[..self.colours] {
-            for (i, &ci) in m.iter().enumerate() {
-                self.slot[ci] = (first * WIDTH + i) as u32;
-            }
-            let groups = m.len().div_ceil(WIDTH);
-            for (j, g) in self.groups[first..first + groups].iter_mut().enumerate() {
-                g.lanes = (m.len() - j * WIDTH).min(WIDTH);
+        let g = &mut groups[group];
+        g.set_lane(lane, Some((ci, c)));
+        g.lanes = lane + 1;
+        self.slot.push(Slot {
+            colour: k as u16,
+            lane: lane as u16,
+            group: group as u32,
+        });
+    }
+
+    /// Ends a build: the unused lanes of each colour's last group become rows that change
+    /// nothing.
+    pub fn finish(&mut self) {
+        for k in 0..self.colours {
+            let m = self.members[k];
+            if m % WIDTH != 0 {
+                let g = &mut self.colour_groups[k][m / WIDTH];
                 for l in g.lanes..WIDTH {
                     g.set_lane(l, None);
                 }
             }
-            first += groups;
         }
-        // The members in the constraints' order, so that they are read front to back (the
-        // colours interleave them).
-        for (ci, (c, &slot)) in constraints.iter().zip(&self.slot).enumerate() {
-            if slot != NO_SLOT {
-                let (g, l) = (slot as usize / WIDTH, slot as usize % WIDTH);
-                self.groups[g].set_lane(l, Some((ci, c)));
-            }
+    }
+
+    /// Sets the softness of constraint `ci`'s lane to `c`'s, where `ci` is grouped.
+    pub fn set_softness(&mut self, ci: usize, c: &ContactConstraint) {
+        let Some(&slot) = self.slot.get(ci) else {
+            return;
+        };
+        if slot.colour == NO_SLOT.colour {
+            return;
         }
-        self.live = count;
+        let g = &mut self.colour_groups[slot.colour as usize][slot.group as usize];
+        let l = slot.lane as usize;
+        g.bias_rate.0[l] = c.softness.bias_rate;
+        g.mass_scale.0[l] = c.softness.mass_scale;
+        g.impulse_scale.0[l] = c.softness.impulse_scale;
+    }
+
+    /// Each colour's groups of this step, in the order they are solved.
+    fn live(&self) -> impl Iterator<Item = &[ContactGroup]> {
+        self.colour_groups
+            .iter()
+            .zip(&self.members)
+            .take(self.colours)
+            .map(|(g, &m)| &g[..m.div_ceil(WIDTH)])
     }
 
     /// Number of four-lane groups.
     pub fn groups(&self) -> usize {
-        self.live
+        self.live().map(<[ContactGroup]>::len).sum()
     }
 
     /// Applies every group's accumulated impulses (warm start).
     pub fn warm_start(&self, bodies: &mut BodySet) {
-        warm_start_on(KernelIsa::detect(), &self.groups[..self.live], bodies);
+        let isa = KernelIsa::detect();
+        for groups in self.live() {
+            warm_start_on(isa, groups, bodies);
+        }
     }
 
     /// One pass over the groups (see [`ContactConstraint::solve`]).
     pub fn solve(&mut self, bodies: &mut BodySet, inv_h: f64, max_push: f64, pass: SolvePass) {
-        solve_on(
-            KernelIsa::detect(),
-            &mut self.groups[..self.live],
-            bodies,
-            inv_h,
-            max_push,
-            pass,
-        );
+        let isa = KernelIsa::detect();
+        for (g, &m) in self
+            .colour_groups
+            .iter_mut()
+            .zip(&self.members)
+            .take(self.colours)
+        {
+            solve_on(
+                isa,
+                &mut g[..m.div_ceil(WIDTH)],
+                bodies,
+                inv_h,
+                max_push,
+                pass,
+            );
+        }
     }
 
     /// Copies the accumulated impulses back into `constraints` (before restitution and the
     /// manifolds' warm-start store).
     pub fn write_back(&self, constraints: &mut [ContactConstraint]) {
-        for g in &self.groups[..self.live] {
+        for g in self.live().flatten() {
             g.write_back(constraints);
         }
     }
@@ -522,7 +598,7 @@ impl ContactBatches {
     /// impulses after the solve: no restitution), with the substep (s) they were
     /// accumulated over.
     pub fn store_impulses(&self, manifolds: &mut [Manifold], impulse_substep: f64) {
-        for g in &self.groups[..self.live] {
+        for g in self.live().flatten() {
             g.store_impulses(manifolds, impulse_substep);
         }
     }
@@ -667,7 +743,7 @@ mod tests {
         assert_eq!(batches.colours, 2);
         assert!(batches.scalar.is_empty());
         let mut seen = vec![0; c.len()];
-        for g in &batches.groups[..batches.live] {
+        for g in batches.live().flatten() {
             let mut moving: Vec<usize> = Vec::new();
             for l in 0..g.lanes {
                 seen[g.constraint[l]] += 1;
@@ -683,6 +759,34 @@ mod tests {
             assert_eq!(moving.len(), before, "a body twice in one group");
         }
         assert!(seen.iter().all(|&k| k == 1));
+    }
+
+    #[test]
+    fn a_softness_set_after_the_lane_is_filled_is_the_one_solved() {
+        // The world fills each lane as its constraint is prepared and stiffens it afterwards:
+        // the group must solve with the later softness, as the scalar solve does.
+        let n = 8;
+        let base = bodies(n);
+        let mut pick: Vec<ContactConstraint> =
+            constraints(&base, n).into_iter().step_by(2).collect();
+        let mut batches = ContactBatches::default();
+        batches.build(&pick, n);
+        for (ci, c) in pick.iter_mut().enumerate() {
+            c.set_softness(Softness::new(60.0 + 30.0 * ci as f64, 10.0, 1.0 / 720.0));
+            batches.set_softness(ci, c);
+        }
+        let pass = SolvePass {
+            use_bias: true,
+            reverse: false,
+        };
+        let mut scalar_bodies = base.clone();
+        for c in &mut pick.clone() {
+            c.solve(&mut scalar_bodies, 720.0, 3.0, pass);
+        }
+        let mut batch_bodies = base.clone();
+        batches.solve(&mut batch_bodies, 720.0, 3.0, pass);
+        assert_eq!(scalar_bodies.vel, batch_bodies.vel);
+        assert_eq!(scalar_bodies.omega, batch_bodies.omega);
     }
 
     #[test]
@@ -712,7 +816,7 @@ mod tests {
             let mut batch_bodies = base.clone();
             let mut batches = ContactBatches::default();
             batches.build(&pick, n);
-            warm_start_on(isa, &batches.groups[..1], &mut batch_bodies);
+            warm_start_on(isa, &batches.colour_groups[0][..1], &mut batch_bodies);
             assert_eq!(scalar_bodies.vel, batch_bodies.vel, "{isa:?}");
             assert_eq!(scalar_bodies.omega, batch_bodies.omega, "{isa:?}");
         }
@@ -738,7 +842,7 @@ mod tests {
                 assert_eq!((batches.colours, batches.groups()), (1, 1));
                 solve_on(
                     isa,
-                    &mut batches.groups[..1],
+                    &mut batches.colour_groups[0][..1],
                     &mut batch_bodies,
                     720.0,
                     3.0,

@@ -179,12 +179,15 @@ pub struct ContactConstraint {
     pub(super) tangents: [V3; 2],
     pub(crate) ima: f64,
     pub(crate) imb: f64,
+    /// World inverse inertias (1/(kg·m²)) of A and B: set only with rolling resistance.
     ia: M3,
     ib: M3,
     pub(super) friction: f64,
     restitution: f64,
     /// Largest rolling-resistance torque per unit normal impulse (m): coefficient × radius.
     pub(super) rolling_arm: f64,
+    /// The rolling rows' effective mass `(I⁻¹a + I⁻¹b)⁻¹` (kg·m²): set only with rolling
+    /// resistance.
     rolling_mass: M3,
     rolling_impulse: V3,
     /// Whether one body cannot move (stiffer softness).
@@ -202,7 +205,8 @@ pub struct ContactConstraint {
     /// curvature is off the body's centre of mass; 0 otherwise.
     round_radius: [f64; 2],
     /// Each point's centres of curvature on A and B (m, body frames, from the centres of
-    /// mass), where that side is round; zero otherwise.
+    /// mass), where that side is round; zero otherwise, and left as they were where neither
+    /// side is round.
     centre: [[V3; 2]; MAX_MANIFOLD_POINTS],
     /// Whether a round part's contact follows its body's turn within the step: the point
     /// where a round part touches stays one radius from its centre of curvature, which turns
@@ -393,20 +397,28 @@ impl ContactConstraint {
         // point lies one radius along +n from its centre, B's along −n.
         // Written in place: a local array copied in at the end stalled on its own stores
         // (`perf annotate`: 13 % of this function on pyramid-1240).
+        // Only read where a side is round (`round_radius`), so left as they are otherwise:
+        // most contacts are between boxes, and the lines not written are not fetched.
         let mut radius = [0.0; 2];
+        let round = |i: usize, part: u16, moving: bool| {
+            moving
+                && matches!(
+                    bodies.part_shape(i, part),
+                    Shape::Sphere { .. } | Shape::Capsule { .. }
+                )
+        };
+        let sides = [
+            (a, m.part_a, round(a, m.part_a, ima > 0.0)),
+            (b, m.part_b, round(b, m.part_b, imb > 0.0)),
+        ];
         let centre = &mut self.centre;
-        for c in centre.iter_mut() {
-            *c = [V3::new(0.0, 0.0, 0.0); 2];
+        if sides.iter().any(|s| s.2) {
+            for c in centre.iter_mut() {
+                *c = [V3::new(0.0, 0.0, 0.0); 2];
+            }
         }
-        for (side, (i, part, moving)) in [(a, m.part_a, ima > 0.0), (b, m.part_b, imb > 0.0)]
-            .into_iter()
-            .enumerate()
-        {
-            let round = matches!(
-                bodies.part_shape(i, part),
-                Shape::Sphere { .. } | Shape::Capsule { .. }
-            );
-            if !moving || !round {
+        for (side, (i, part, round)) in sides.into_iter().enumerate() {
+            if !round {
                 continue;
             }
             let mut off = false;
@@ -422,11 +434,6 @@ impl ContactConstraint {
                 radius[side] = 0.0;
             }
         }
-        let rolling_mass = if rr > 0.0 {
-            (ia + ib).try_inverse().unwrap_or(M3::zeros())
-        } else {
-            M3::zeros()
-        };
         self.a = a;
         self.b = b;
         self.manifold = mi;
@@ -434,8 +441,13 @@ impl ContactConstraint {
         self.tangents = tangents;
         self.ima = ima;
         self.imb = imb;
-        self.ia = ia;
-        self.ib = ib;
+        // The inverse inertias and the rolling rows are read only with rolling resistance
+        // (`rolling_arm` > 0), and left as they are otherwise, as the centres above.
+        if rr > 0.0 {
+            self.ia = ia;
+            self.ib = ib;
+            self.rolling_mass = (ia + ib).try_inverse().unwrap_or(M3::zeros());
+        }
         self.friction = if settings.friction {
             ma.pair_friction(mb)
         } else {
@@ -447,7 +459,6 @@ impl ContactConstraint {
             0.0
         };
         self.rolling_arm = rr;
-        self.rolling_mass = rolling_mass;
         self.rolling_impulse = if rr > 0.0 {
             m.rolling_impulse
         } else {
