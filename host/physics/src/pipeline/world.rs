@@ -248,6 +248,10 @@ pub struct World {
     sink_hold: SinkHold,
     /// Substeps of those islands per substep of the step (1: none this step).
     fine_factor: usize,
+    /// The soft contacts' stiffness of the last step, which each constraint takes as it is
+    /// prepared: a world that keeps its substeps keeps it, and its constraints are not
+    /// visited again to be stiffened.
+    last_stiffness: Option<ContactStiffness>,
     /// Per constraint: whether it belongs to such an island.
     fine_constraint: Vec<bool>,
     /// The contacts of those islands, coloured and grouped.
@@ -317,6 +321,7 @@ impl World {
             resting_substeps: RestingSubsteps::default(),
             sink_hold: SinkHold::default(),
             fine_factor: 1,
+            last_stiffness: None,
             fine_constraint: Vec::new(),
             fine_batches: ContactBatches::default(),
             awake_saved: Vec::new(),
@@ -447,6 +452,7 @@ impl World {
         if batch {
             self.batches.begin(self.bodies.len());
         }
+        let predicted = self.last_stiffness.filter(|_| self.settings.soft_contacts);
         // Whether a contact follows a round part's turn: its rows change within the step.
         let mut follows = false;
         self.tree_contacts.clear();
@@ -553,10 +559,13 @@ impl World {
                                 mi,
                                 &settings,
                             ));
-                            &self.constraints[prepared]
+                            &mut self.constraints[prepared]
                         }
                     };
                     follows |= c.follows_turn();
+                    if let Some(k) = &predicted {
+                        c.stiffen(k);
+                    }
                     if batch {
                         self.batches.add(prepared, c);
                     }
@@ -628,10 +637,13 @@ impl World {
         self.fine_factor = 1;
         if self.settings.soft_contacts {
             let stiffness = self.settings.stiffness_on(h, dt);
-            for (ci, c) in self.constraints.iter_mut().enumerate() {
-                c.stiffen(&stiffness);
-                self.batches.set_softness(ci, c);
+            if predicted != Some(stiffness) {
+                for (ci, c) in self.constraints.iter_mut().enumerate() {
+                    c.stiffen(&stiffness);
+                    self.batches.set_softness(ci, c);
+                }
             }
+            self.last_stiffness = Some(stiffness);
             // A world that takes fewer substeps at rest leans within the tolerance at their
             // stiffness, and holds no island's factor: no island needs more.
             if !at_rest {
