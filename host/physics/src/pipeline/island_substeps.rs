@@ -202,7 +202,7 @@ impl IslandSubsteps {
         self.fine.resize(n, 1);
         self.held.resize(n, (1, 0.0));
         let holding = self.holding();
-        let most = self.leans(bodies, constraints, loads);
+        let most = self.leans(bodies, constraints, loads, false);
         if most <= LEAN_TOLERANCE && !holding {
             return 1;
         }
@@ -293,12 +293,15 @@ impl IslandSubsteps {
 
     /// The elastic lean (m) that each column contact gives the top of its column at the
     /// contacts' stiffness `loads.stiffness` ([`IslandSubsteps::lean`], by the body it
-    /// supports), and the largest of them (0: no body stands on a loaded contact).
+    /// supports), and the largest of them (0: no body stands on a loaded contact); with
+    /// `rocking`, the columns' rocking ratio too ([`IslandSubsteps::rocking`], NaN without:
+    /// the plan of each step does not read it).
     pub(crate) fn leans(
         &mut self,
         bodies: &BodySet,
         constraints: &[ContactConstraint],
         loads: &StepLoads<'_>,
+        rocking: bool,
     ) -> f64 {
         let n = bodies.len();
         let moving = |i: usize| bodies.kind[i] == BodyKind::Dynamic && bodies.awake[i];
@@ -402,6 +405,9 @@ impl IslandSubsteps {
                 self.lean[i] = tilt * (col.top - at).max(0.0);
                 most = most.max(self.lean[i]);
             }
+            if !rocking {
+                continue;
+            }
             let k = c.rocking_stiffness(&up, omega);
             let arm = (up.dot(&com) - at).max(0.0);
             self.rocking_ratio[i] = if k > 0.0 {
@@ -410,7 +416,11 @@ impl IslandSubsteps {
                 f64::INFINITY
             };
         }
-        self.rocking = self.rocking_sums();
+        self.rocking = if rocking {
+            self.rocking_sums()
+        } else {
+            f64::NAN
+        };
         most
     }
 

@@ -195,7 +195,7 @@ impl RestingSubsteps {
             // A lean grows as the contacts soften: none at stiffer contacts, none at these. (A
             // column's rocking ratio grows too, and is summed again at each stiffness.)
             if lean != Some(0.0) || islands.stacked() {
-                lean = Some(islands.leans(bodies, constraints, &loads));
+                lean = Some(islands.leans(bodies, constraints, &loads, true));
             }
             let holds = lean.is_some_and(|l| l <= LEAN_TOLERANCE)
                 && islands.rocking() <= ROCKING_MARGIN
