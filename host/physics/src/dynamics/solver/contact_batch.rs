@@ -352,22 +352,20 @@ impl ContactGroup {
         }
     }
 
-    /// Stores the accumulated impulses straight into the manifolds, as
+    /// Stores lane `l`'s accumulated impulses straight into its manifold, as
     /// [`ContactConstraint::store`] would after [`Self::write_back`] (a grouped constraint
     /// has no rolling resistance), accumulated over substeps of `impulse_substep` seconds.
-    fn store_impulses(&self, manifolds: &mut [Manifold], impulse_substep: f64) {
-        for l in 0..self.lanes {
-            let m = &mut manifolds[self.manifold[l]];
-            let i = self.impulses(l);
-            for (k, cp) in m.points[..m.len].iter_mut().enumerate() {
-                cp.normal_impulse = i.normal[k];
-                cp.max_normal_impulse = i.max_normal[k];
-            }
-            m.friction_impulse = i.tangent;
-            m.twist_impulse = i.twist;
-            m.rolling_impulse = V3::zeros();
-            m.impulse_substep = impulse_substep;
+    fn store_lane(&self, manifolds: &mut [Manifold], l: usize, impulse_substep: f64) {
+        let m = &mut manifolds[self.manifold[l]];
+        let i = self.impulses(l);
+        for (k, cp) in m.points[..m.len].iter_mut().enumerate() {
+            cp.normal_impulse = i.normal[k];
+            cp.max_normal_impulse = i.max_normal[k];
         }
+        m.friction_impulse = i.tangent;
+        m.twist_impulse = i.twist;
+        m.rolling_impulse = V3::zeros();
+        m.impulse_substep = impulse_substep;
     }
 }
 
@@ -598,8 +596,13 @@ impl ContactBatches {
     /// impulses after the solve: no restitution), with the substep (s) they were
     /// accumulated over.
     pub fn store_impulses(&self, manifolds: &mut [Manifold], impulse_substep: f64) {
-        for g in self.live().flatten() {
-            g.store_impulses(manifolds, impulse_substep);
+        // In the constraints' order, which is the manifolds': the manifolds are written
+        // front to back (the colours interleave them).
+        for slot in &self.slot {
+            if slot.colour != NO_SLOT.colour {
+                let g = &self.colour_groups[slot.colour as usize][slot.group as usize];
+                g.store_lane(manifolds, slot.lane as usize, impulse_substep);
+            }
         }
     }
 }
