@@ -131,6 +131,10 @@ enum Cmd {
         /// bodies' boxes stay in place.
         #[arg(long)]
         rebuild_broad_phase: bool,
+        /// Keep every contact constraint whole at rest, instead of preparing those solved
+        /// four at a time straight into their lanes.
+        #[arg(long)]
+        keep_contact_constraints: bool,
     },
     /// Cost of each effect added to a base scene, and of the same effect undeclared.
     Effects {
@@ -258,6 +262,7 @@ fn dispatch(cli: Cli) -> Result<()> {
             contact_warm_start,
             no_sink_hold,
             rebuild_broad_phase,
+            keep_contact_constraints,
         } => run::bench(
             &scene,
             steps,
@@ -273,6 +278,7 @@ fn dispatch(cli: Cli) -> Result<()> {
                 contact_warm_start,
                 no_sink_hold,
                 rebuild_broad_phase,
+                keep_contact_constraints,
             },
         ),
     }

@@ -121,7 +121,7 @@ fn step_line(w: &World, k: u64, start: &[virtual_physics::geometry::V3]) -> serd
         "max_displacement": d.max_3d, "max_horizontal_displacement": d.max_horizontal,
         "max_vertical_displacement": d.max_vertical,
         "stages": stages, "pairs_tested": c.pairs_tested,
-        "manifolds_refreshed": c.manifolds_refreshed, "contacts": c.contacts,
+        "manifolds_refreshed": c.manifolds_refreshed, "lean_contacts": c.lean_contacts, "contacts": c.contacts,
         "solver_iterations": c.solver_iterations, "awake": c.awake_bodies,
         "contact_colours": c.contact_colours, "contact_groups": c.contact_groups,
         "fine_substeps": c.fine_substeps, "fine_bodies": c.fine_bodies,
@@ -200,6 +200,8 @@ pub struct SolverOverrides {
     pub no_sink_hold: bool,
     /// The broad phase's grid built every step.
     pub rebuild_broad_phase: bool,
+    /// Every contact constraint kept whole at rest.
+    pub keep_contact_constraints: bool,
 }
 
 /// `vphys bench`: ms per step and the drift of the boxes, as one JSON object.
@@ -242,6 +244,9 @@ pub fn bench(
     if overrides.rebuild_broad_phase {
         w.settings_mut().keep_broad_phase_pairs = false;
     }
+    if overrides.keep_contact_constraints {
+        w.settings_mut().lean_resting_contacts = false;
+    }
     if let Some(cap) = overrides.hertz_cap {
         anyhow::ensure!(
             cap.is_finite() && cap > 0.0,
@@ -274,6 +279,7 @@ pub fn bench(
         "replay_warm_start": w.settings().replay_warm_start,
         "hold_sink": w.settings().hold_sink,
         "keep_broad_phase_pairs": w.settings().keep_broad_phase_pairs,
+        "lean_resting_contacts": w.settings().lean_resting_contacts,
         "contact_hertz": w.settings().contact_hertz,
         "soft_contacts": w.settings().soft_contacts,
         "batch_contacts": w.settings().batch_contacts,

@@ -82,6 +82,9 @@ pub struct StepCounters {
     /// Pairs of resting boxes whose manifold was moved with the bodies instead of collided
     /// again.
     pub manifolds_refreshed: usize,
+    /// Contact constraints prepared straight into their lanes, not kept whole (a world at
+    /// rest, `SolverSettings::lean_resting_contacts`).
+    pub lean_contacts: usize,
     /// Manifolds with points.
     pub manifolds: usize,
     /// Contact points.

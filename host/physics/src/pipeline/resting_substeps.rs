@@ -166,6 +166,17 @@ impl RestingSubsteps {
         chosen
     }
 
+    /// The fewer substeps [`Self::substeps`] will return this step without taking its
+    /// decision again, where it will: every body still (as [`still`] asks of them), rested
+    /// long enough, and a decision on fewer than `n` kept. The caller checks the rest (a world
+    /// of free bodies in contact under gravity) by the substeps `substeps` returns.
+    pub(crate) fn kept_for(&self, bodies: &BodySet, n: usize, dt: f64) -> Option<usize> {
+        let (of, chosen, age) = self.kept?;
+        let keeps = of == n && chosen < n && age + dt < RESTING_TIME;
+        let rested = self.rested + dt >= RESTING_TIME;
+        (keeps && rested && bodies_still(bodies)).then_some(chosen)
+    }
+
     /// [`RestingSubsteps::substeps`] for a world that has rested long enough: the fewest
     /// substeps that hold it.
     fn decide(
@@ -297,6 +308,11 @@ fn still(bodies: &BodySet, constraints: &[ContactConstraint], world: &RestingWor
     if world.more_than_contacts || constraints.is_empty() || world.loads.gravity <= 0.0 {
         return false;
     }
+    bodies_still(bodies)
+}
+
+/// Whether every awake dynamic body is below the sleep speeds.
+fn bodies_still(bodies: &BodySet) -> bool {
     (0..bodies.len()).all(|i| {
         bodies.kind[i] != BodyKind::Dynamic
             || !bodies.awake[i]

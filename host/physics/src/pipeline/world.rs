@@ -131,6 +131,11 @@ pub struct SolverSettings {
     /// (`geometry/broad_phase.rs`; default). Off, the grid is built every step: the same
     /// pairs.
     pub keep_broad_phase_pairs: bool,
+    /// A world at rest that keeps its decision on fewer substeps prepares the contact
+    /// constraints it solves four at a time straight into their lanes, without keeping each
+    /// whole (default): the same bits, without writing some 1.6 kB per contact. Off, every
+    /// constraint is kept.
+    pub lean_resting_contacts: bool,
 }
 
 impl SolverSettings {
@@ -203,8 +208,21 @@ impl Default for SolverSettings {
             replay_warm_start: true,
             hold_sink: true,
             keep_broad_phase_pairs: true,
+            lean_resting_contacts: true,
         }
     }
+}
+
+/// A step whose grouped contact constraints live in their lanes alone
+/// (`World::lean_step`): what it was prepared for.
+#[derive(Clone, Copy, Debug)]
+struct ContactLeanStep {
+    /// The substeps the resting decision keeps.
+    substeps: usize,
+    /// Their length (s).
+    substep: f64,
+    /// The contacts' stiffness on them.
+    stiffness: ContactStiffness,
 }
 
 /// A simulated world.
@@ -252,6 +270,9 @@ pub struct World {
     /// prepared: a world that keeps its substeps keeps it, and its constraints are not
     /// visited again to be stiffened.
     last_stiffness: Option<ContactStiffness>,
+    /// The constraint prepared last where the step's constraints are not kept
+    /// (`ContactLeanStep`): its lane is filled from here, in cache.
+    scratch_constraint: ContactConstraint,
     /// Per constraint: whether it belongs to such an island.
     fine_constraint: Vec<bool>,
     /// The contacts of those islands, coloured and grouped.
@@ -322,6 +343,7 @@ impl World {
             sink_hold: SinkHold::default(),
             fine_factor: 1,
             last_stiffness: None,
+            scratch_constraint: ContactConstraint::blank(),
             fine_constraint: Vec::new(),
             fine_batches: ContactBatches::default(),
             awake_saved: Vec::new(),
@@ -453,6 +475,18 @@ impl World {
             self.batches.begin(self.bodies.len());
         }
         let predicted = self.last_stiffness.filter(|_| self.settings.soft_contacts);
+        let settings = ContactSettings {
+            friction: eff.has(Effect::Friction),
+            restitution: eff.has(Effect::Restitution),
+            rolling: eff.has(Effect::RollingResistance),
+            restitution_threshold: self.settings.restitution_threshold,
+            max_push_velocity: self.settings.max_push_velocity,
+        };
+        // A world at rest that keeps its decision on fewer substeps reads its grouped
+        // constraints from their lanes alone: they are prepared in cache and not kept.
+        let lean = self.lean_step(n_sub, dt, predicted);
+        // Whether a carried impulse must be rescaled to this step's substep.
+        let mut lean_rescales = false;
         // Whether a contact follows a round part's turn: its rows change within the step.
         let mut follows = false;
         self.tree_contacts.clear();
@@ -512,13 +546,6 @@ impl World {
             self.counters.manifolds = nc.manifolds;
             self.counters.contacts = nc.contacts;
             self.counters.unsupported_pairs = nc.unsupported;
-            let settings = ContactSettings {
-                friction: eff.has(Effect::Friction),
-                restitution: eff.has(Effect::Restitution),
-                rolling: eff.has(Effect::RollingResistance),
-                restitution_threshold: self.settings.restitution_threshold,
-                max_push_velocity: self.settings.max_push_velocity,
-            };
             let hold_up = self.settings.hold_up(&self.effects, &self.gravity);
             if let Some(up) = &hold_up {
                 let (bodies, proxies) = (&self.bodies, &self.proxies);
@@ -545,6 +572,25 @@ impl World {
                             &settings,
                         )?;
                     }
+                } else if let (Some(lean), true) =
+                    (&lean, self.bodies.awake[a] || self.bodies.awake[b])
+                {
+                    let c = &mut self.scratch_constraint;
+                    c.prepare_in(&self.bodies, m, mi, &settings);
+                    follows |= c.follows_turn();
+                    c.stiffen(&lean.stiffness);
+                    let carried = m.impulse_substep;
+                    lean_rescales |= carried > 0.0 && carried != lean.substep;
+                    let grouped = self.batches.add(prepared, c);
+                    self.counters.lean_contacts += usize::from(grouped);
+                    // Kept whole where it is solved one by one; elsewhere the slot is kept
+                    // for its index, and holds last step's constraint.
+                    if prepared == self.constraints.len() {
+                        self.constraints.push(*c);
+                    } else if !grouped {
+                        self.constraints[prepared] = *c;
+                    }
+                    prepared += 1;
                 } else if self.bodies.awake[a] || self.bodies.awake[b] {
                     // The last step's constraints are rewritten in place.
                     let c = match self.constraints.get_mut(prepared) {
@@ -616,6 +662,16 @@ impl World {
         // collision's sweep margin (`½ |v| |ω| h dt`) is nil for bodies at rest.
         let fewer = self.substeps_at_rest(n_sub, coupled);
         let at_rest = fewer < n_sub;
+        // The lean step holds only where the world took the substeps it was prepared for and
+        // nothing rescales a carried impulse; otherwise the constraints are prepared again,
+        // whole, from the same bodies and manifolds, and grouped and stiffened from them.
+        let lean_holds = lean
+            .as_ref()
+            .is_some_and(|l| fewer == l.substeps && !lean_rescales);
+        let prepared_again = lean.is_some() && !lean_holds;
+        if prepared_again {
+            self.prepare_contacts_again(&settings);
+        }
         if at_rest {
             n_sub = fewer;
             h = dt / n_sub as f64;
@@ -637,7 +693,8 @@ impl World {
         self.fine_factor = 1;
         if self.settings.soft_contacts {
             let stiffness = self.settings.stiffness_on(h, dt);
-            if predicted != Some(stiffness) {
+            // A lean step's lanes hold this stiffness already, and its constraints are not read.
+            if prepared_again || (!lean_holds && predicted != Some(stiffness)) {
                 for (ci, c) in self.constraints.iter_mut().enumerate() {
                     c.stiffen(&stiffness);
                     self.batches.set_softness(ci, c);
@@ -655,13 +712,13 @@ impl World {
                 self.batches.set_softness(ci, c);
             }
         }
-        let rescaled = self.carry_impulses_to_substeps(h);
+        let rescaled = self.carry_impulses_to_substeps(h, lean_holds);
         self.batched = batch && !self.constraints.is_empty();
         // The groups filled as the constraints were prepared hold them as they are now,
         // unless an island took extra substeps (its constraints go to their own groups,
         // stiffer) or carried impulses were rescaled to a changed substep: then they are
         // grouped again from the constraints.
-        if self.batched && (rescaled || self.fine_factor > 1) {
+        if self.batched && (rescaled || self.fine_factor > 1 || prepared_again) {
             let fine = &self.fine_constraint;
             self.batches
                 .build_of(&self.constraints, self.bodies.len(), |ci| !fine[ci]);
@@ -982,6 +1039,62 @@ impl World {
     /// The substeps the step takes: fewer than `n_sub` where the world rests and its contacts
     /// hold it as well on fewer ([`RestingSubsteps::substeps`]); `coupled` says whether
     /// articulated trees are solved with the free bodies.
+    /// The lean step this step may take, before its contacts are prepared: a world of free
+    /// bodies in contact under gravity, soft contacts grouped four by four, no restitution,
+    /// every body still, and a resting decision on fewer substeps that it keeps this step
+    /// ([`RestingSubsteps::kept_for`]). Its grouped constraints are then read from their
+    /// lanes alone (filled as each is prepared), never from `constraints`, so they are
+    /// prepared in cache and not written there; the step checks once its substeps are known
+    /// that it took them ([`Self::prepare_contacts_again`] otherwise).
+    fn lean_step(
+        &self,
+        n_sub: usize,
+        dt: f64,
+        predicted: Option<ContactStiffness>,
+    ) -> Option<ContactLeanStep> {
+        let eff = &self.effects;
+        let plain = self.settings.lean_resting_contacts
+            && self.settings.batch_contacts
+            && self.settings.soft_contacts
+            && self.settings.fewer_substeps_at_rest
+            && eff.has(Effect::Gravity)
+            && !eff.has(Effect::Restitution)
+            && self.articulated.is_empty()
+            && self.joints.is_empty()
+            && !self.kinematic_moving()
+            && !self.island_substeps.holding();
+        if !plain {
+            return None;
+        }
+        let substeps = self.resting_substeps.kept_for(&self.bodies, n_sub, dt)?;
+        let substep = dt / substeps as f64;
+        let stiffness = self.settings.stiffness_on(substep, dt);
+        // The stiffness the constraints took last step, so that nothing is stiffened again.
+        (predicted == Some(stiffness)).then_some(ContactLeanStep {
+            substeps,
+            substep,
+            stiffness,
+        })
+    }
+
+    /// Prepares every free bodies' contact constraint again, whole, in `constraints` (a lean
+    /// step whose substeps came out otherwise; the bodies and manifolds are those the step
+    /// prepared them from, so they come out as the full step would have prepared them).
+    fn prepare_contacts_again(&mut self, settings: &ContactSettings) {
+        let Some(narrow) = self.narrow.as_ref() else {
+            return;
+        };
+        let mut ci = 0;
+        for (mi, m) in narrow.manifolds.iter().enumerate() {
+            let (a, b) = (m.a as usize, m.b as usize);
+            let proxy = |i: usize| self.proxies.get(i).is_some_and(Option::is_some);
+            if !(proxy(a) || proxy(b)) && (self.bodies.awake[a] || self.bodies.awake[b]) {
+                self.constraints[ci].prepare_in(&self.bodies, m, mi, settings);
+                ci += 1;
+            }
+        }
+    }
+
     fn substeps_at_rest(&mut self, n_sub: usize, coupled: bool) -> usize {
         let g = self.gravity.norm();
         let allowed = self.settings.fewer_substeps_at_rest
@@ -1077,11 +1190,15 @@ impl World {
 
     /// Scales each constraint's carried impulses from the substep they were accumulated over
     /// to the one it takes this step (`h`, or `h / fine_factor` in an island with extra
-    /// substeps); whether any were rescaled.
-    fn carry_impulses_to_substeps(&mut self, h: f64) -> bool {
+    /// substeps); whether any were rescaled. A lean step (`ContactLeanStep`) has checked
+    /// that none is, as it prepared them, and its constraints are not read.
+    fn carry_impulses_to_substeps(&mut self, h: f64, lean: bool) -> bool {
         if self.fine_factor <= 1 {
             self.fine_constraint.clear();
             self.fine_constraint.resize(self.constraints.len(), false);
+        }
+        if lean {
+            return false;
         }
         let Some(narrow) = self.narrow.as_mut() else {
             return false;
@@ -1226,4 +1343,63 @@ impl World {
 /// The narrow phase's manifolds (none without collision).
 fn manifolds(narrow: &Option<NarrowPhase>) -> &[Manifold] {
     narrow.as_ref().map_or(&[][..], |n| &n.manifolds[..])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::builtin::pyramid;
+
+    /// A lean step leaves its grouped constraints as last step's; where its substeps come out
+    /// otherwise, `prepare_contacts_again` must give every constraint as the full step
+    /// prepares it.
+    #[test]
+    fn constraints_prepared_again_are_the_full_steps() {
+        let mut scene = pyramid(5);
+        scene.effects.retain(|e| *e != Effect::Sleeping);
+        let mut w = scene.build().unwrap();
+        for _ in 0..60 {
+            w.step().unwrap();
+        }
+        assert!(
+            w.counters().lean_contacts > 0,
+            "the pyramid took no lean step"
+        );
+        let eff = w.effects;
+        let settings = ContactSettings {
+            friction: eff.has(Effect::Friction),
+            restitution: eff.has(Effect::Restitution),
+            rolling: eff.has(Effect::RollingResistance),
+            restitution_threshold: w.settings.restitution_threshold,
+            max_push_velocity: w.settings.max_push_velocity,
+        };
+        let narrow = w.narrow.as_ref().unwrap();
+        let full: Vec<ContactConstraint> = narrow
+            .manifolds
+            .iter()
+            .enumerate()
+            .filter(|(_, m)| w.bodies.awake[m.a as usize] || w.bodies.awake[m.b as usize])
+            .map(|(mi, m)| ContactConstraint::prepare(&w.bodies, m, mi, &settings))
+            .collect();
+        // What each constraint's warm start gives the bodies: the same for the same rows and
+        // impulses.
+        let kick = |w: &World, c: &ContactConstraint| {
+            let mut b = w.bodies.clone();
+            c.warm_start(&mut b);
+            (b.vel, b.omega)
+        };
+        let differs = |w: &World| {
+            full.iter()
+                .zip(&w.constraints)
+                .filter(|(f, c)| kick(w, f) != kick(w, c))
+                .count()
+        };
+        assert_eq!(w.constraints.len(), full.len());
+        assert!(
+            differs(&w) > 0,
+            "the lean steps kept their constraints whole"
+        );
+        w.prepare_contacts_again(&settings);
+        assert_eq!(differs(&w), 0);
+    }
 }

@@ -470,13 +470,13 @@ impl ContactBatches {
     /// moving bodies is used yet takes it, in the next lane of that colour's last group,
     /// filled now; constraints no colour can take, or with rolling resistance or rows that
     /// follow a turn, go to [`Self::scalar`]. Its softness may still change
-    /// ([`Self::set_softness`]).
-    pub fn add(&mut self, ci: usize, c: &ContactConstraint) {
+    /// ([`Self::set_softness`]). Whether it went to a group.
+    pub fn add(&mut self, ci: usize, c: &ContactConstraint) -> bool {
         debug_assert_eq!(ci, self.slot.len());
         if c.rolling_arm > 0.0 || c.follows {
             self.scalar.push(ci);
             self.slot.push(NO_SLOT);
-            return;
+            return false;
         }
         let bit = |i: usize| (i / 64, 1u64 << (i % 64));
         let moving_a = (c.ima > 0.0).then(|| bit(c.a));
@@ -488,7 +488,7 @@ impl ContactBatches {
         let Some(k) = self.used.iter().position(free) else {
             self.scalar.push(ci);
             self.slot.push(NO_SLOT);
-            return;
+            return false;
         };
         let u = &mut self.used[k];
         for (w, m) in [moving_a, moving_b].into_iter().flatten() {
@@ -510,6 +510,7 @@ impl ContactBatches {
             lane: lane as u16,
             group: group as u32,
         });
+        true
     }
 
     /// Ends a build: the unused lanes of each colour's last group become rows that change

@@ -286,7 +286,7 @@ impl ContactConstraint {
     }
 
     /// A constraint that changes nothing, to be prepared in place.
-    fn blank() -> Self {
+    pub(crate) fn blank() -> Self {
         Self {
             a: 0,
             b: 0,
