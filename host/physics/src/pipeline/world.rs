@@ -475,13 +475,7 @@ impl World {
             self.batches.begin(self.bodies.len());
         }
         let predicted = self.last_stiffness.filter(|_| self.settings.soft_contacts);
-        let settings = ContactSettings {
-            friction: eff.has(Effect::Friction),
-            restitution: eff.has(Effect::Restitution),
-            rolling: eff.has(Effect::RollingResistance),
-            restitution_threshold: self.settings.restitution_threshold,
-            max_push_velocity: self.settings.max_push_velocity,
-        };
+        let settings = self.contact_settings();
         // A world at rest that keeps its decision on fewer substeps reads its grouped
         // constraints from their lanes alone: they are prepared in cache and not kept.
         let lean = self.lean_step(n_sub, dt, predicted);
@@ -1039,6 +1033,18 @@ impl World {
     /// The substeps the step takes: fewer than `n_sub` where the world rests and its contacts
     /// hold it as well on fewer ([`RestingSubsteps::substeps`]); `coupled` says whether
     /// articulated trees are solved with the free bodies.
+    /// The contact rows' settings from the scene's effects and the solver settings.
+    fn contact_settings(&self) -> ContactSettings {
+        let eff = &self.effects;
+        ContactSettings {
+            friction: eff.has(Effect::Friction),
+            restitution: eff.has(Effect::Restitution),
+            rolling: eff.has(Effect::RollingResistance),
+            restitution_threshold: self.settings.restitution_threshold,
+            max_push_velocity: self.settings.max_push_velocity,
+        }
+    }
+
     /// The lean step this step may take, before its contacts are prepared: a world of free
     /// bodies in contact under gravity, soft contacts grouped four by four, no restitution,
     /// every body still, and a resting decision on fewer substeps that it keeps this step
@@ -1365,14 +1371,7 @@ mod tests {
             w.counters().lean_contacts > 0,
             "the pyramid took no lean step"
         );
-        let eff = w.effects;
-        let settings = ContactSettings {
-            friction: eff.has(Effect::Friction),
-            restitution: eff.has(Effect::Restitution),
-            rolling: eff.has(Effect::RollingResistance),
-            restitution_threshold: w.settings.restitution_threshold,
-            max_push_velocity: w.settings.max_push_velocity,
-        };
+        let settings = w.contact_settings();
         let narrow = w.narrow.as_ref().unwrap();
         let full: Vec<ContactConstraint> = narrow
             .manifolds
