@@ -221,8 +221,6 @@ struct ContactLeanStep {
     substeps: usize,
     /// Their length (s).
     substep: f64,
-    /// The contacts' stiffness on them.
-    stiffness: ContactStiffness,
 }
 
 /// A simulated world.
@@ -543,11 +541,7 @@ impl World {
             let hold_up = self.settings.hold_up(&self.effects, &self.gravity);
             if let Some(up) = &hold_up {
                 let (bodies, proxies) = (&self.bodies, &self.proxies);
-                let solved = |m: &Manifold| {
-                    let (a, b) = (m.a as usize, m.b as usize);
-                    let proxy = |i: usize| proxies.get(i).is_some_and(Option::is_some);
-                    !(proxy(a) || proxy(b)) && (bodies.awake[a] || bodies.awake[b])
-                };
+                let solved = |m: &Manifold| solved_between_free_bodies(bodies, proxies, m);
                 self.sink_hold
                     .update(&mut narrow.manifolds, solved, (bodies.len(), dt, spec), up);
             }
@@ -566,48 +560,33 @@ impl World {
                             &settings,
                         )?;
                     }
-                } else if let (Some(lean), true) =
-                    (&lean, self.bodies.awake[a] || self.bodies.awake[b])
-                {
-                    let c = &mut self.scratch_constraint;
+                } else if self.bodies.awake[a] || self.bodies.awake[b] {
+                    // The last step's constraints are rewritten in place; a lean step
+                    // prepares each in the scratch constraint, in cache, instead.
+                    if prepared == self.constraints.len() {
+                        self.constraints.push(ContactConstraint::blank());
+                    }
+                    let c = if lean.is_some() {
+                        &mut self.scratch_constraint
+                    } else {
+                        &mut self.constraints[prepared]
+                    };
                     c.prepare_in(&self.bodies, m, mi, &settings);
                     follows |= c.follows_turn();
-                    c.stiffen(&lean.stiffness);
-                    let carried = m.impulse_substep;
-                    lean_rescales |= carried > 0.0 && carried != lean.substep;
-                    let grouped = self.batches.add(prepared, c);
-                    self.counters.lean_contacts += usize::from(grouped);
-                    // Kept whole where it is solved one by one; elsewhere the slot is kept
-                    // for its index, and holds last step's constraint.
-                    if prepared == self.constraints.len() {
-                        self.constraints.push(*c);
-                    } else if !grouped {
-                        self.constraints[prepared] = *c;
-                    }
-                    prepared += 1;
-                } else if self.bodies.awake[a] || self.bodies.awake[b] {
-                    // The last step's constraints are rewritten in place.
-                    let c = match self.constraints.get_mut(prepared) {
-                        Some(c) => {
-                            c.prepare_in(&self.bodies, m, mi, &settings);
-                            c
-                        }
-                        None => {
-                            self.constraints.push(ContactConstraint::prepare(
-                                &self.bodies,
-                                m,
-                                mi,
-                                &settings,
-                            ));
-                            &mut self.constraints[prepared]
-                        }
-                    };
-                    follows |= c.follows_turn();
+                    // A lean step's stiffness is the predicted one.
                     if let Some(k) = &predicted {
                         c.stiffen(k);
                     }
-                    if batch {
-                        self.batches.add(prepared, c);
+                    let grouped = batch && self.batches.add(prepared, c);
+                    if let Some(lean) = &lean {
+                        let carried = m.impulse_substep;
+                        lean_rescales |= carried > 0.0 && carried != lean.substep;
+                        self.counters.lean_contacts += usize::from(grouped);
+                        // Kept whole where it is solved one by one; a grouped one's slot
+                        // keeps its index, and last step's constraint.
+                        if !grouped {
+                            self.constraints[prepared] = self.scratch_constraint;
+                        }
                     }
                     prepared += 1;
                 }
@@ -1030,9 +1009,6 @@ impl World {
         self.solve_tree_drives(soft_static, pass, DriveGroup::Hard);
     }
 
-    /// The substeps the step takes: fewer than `n_sub` where the world rests and its contacts
-    /// hold it as well on fewer ([`RestingSubsteps::substeps`]); `coupled` says whether
-    /// articulated trees are solved with the free bodies.
     /// The contact rows' settings from the scene's effects and the solver settings.
     fn contact_settings(&self) -> ContactSettings {
         let eff = &self.effects;
@@ -1075,12 +1051,9 @@ impl World {
         let substeps = self.resting_substeps.kept_for(&self.bodies, n_sub, dt)?;
         let substep = dt / substeps as f64;
         let stiffness = self.settings.stiffness_on(substep, dt);
-        // The stiffness the constraints took last step, so that nothing is stiffened again.
-        (predicted == Some(stiffness)).then_some(ContactLeanStep {
-            substeps,
-            substep,
-            stiffness,
-        })
+        // The stiffness the constraints took last step (`predicted`, which each is stiffened
+        // with as it is prepared), so that nothing is stiffened again.
+        (predicted == Some(stiffness)).then_some(ContactLeanStep { substeps, substep })
     }
 
     /// Prepares every free bodies' contact constraint again, whole, in `constraints` (a lean
@@ -1092,15 +1065,16 @@ impl World {
         };
         let mut ci = 0;
         for (mi, m) in narrow.manifolds.iter().enumerate() {
-            let (a, b) = (m.a as usize, m.b as usize);
-            let proxy = |i: usize| self.proxies.get(i).is_some_and(Option::is_some);
-            if !(proxy(a) || proxy(b)) && (self.bodies.awake[a] || self.bodies.awake[b]) {
+            if solved_between_free_bodies(&self.bodies, &self.proxies, m) {
                 self.constraints[ci].prepare_in(&self.bodies, m, mi, settings);
                 ci += 1;
             }
         }
     }
 
+    /// The substeps the step takes: fewer than `n_sub` where the world rests and its contacts
+    /// hold it as well on fewer ([`RestingSubsteps::substeps`]); `coupled` says whether
+    /// articulated trees are solved with the free bodies.
     fn substeps_at_rest(&mut self, n_sub: usize, coupled: bool) -> usize {
         let g = self.gravity.norm();
         let allowed = self.settings.fewer_substeps_at_rest
@@ -1344,6 +1318,14 @@ impl World {
     pub(crate) fn body_index(&self, name: &str) -> Option<usize> {
         self.bodies.name.iter().position(|n| n == name)
     }
+}
+
+/// Whether manifold `m` is solved as a contact constraint between free bodies: neither body
+/// is a tree link's proxy (those contacts act on the tree), and one of them is awake.
+fn solved_between_free_bodies(bodies: &BodySet, proxies: &[Option<Proxy>], m: &Manifold) -> bool {
+    let (a, b) = (m.a as usize, m.b as usize);
+    let proxy = |i: usize| proxies.get(i).is_some_and(Option::is_some);
+    !(proxy(a) || proxy(b)) && (bodies.awake[a] || bodies.awake[b])
 }
 
 /// The narrow phase's manifolds (none without collision).
