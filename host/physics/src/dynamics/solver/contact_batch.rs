@@ -385,13 +385,6 @@ struct Slot {
     group: u32,
 }
 
-/// A constraint in no group.
-const NO_SLOT: Slot = Slot {
-    colour: u16::MAX,
-    lane: 0,
-    group: 0,
-};
-
 /// The step's contact constraints, coloured and grouped four by four.
 ///
 /// Built one constraint at a time ([`ContactBatches::begin`], [`ContactBatches::add`],
@@ -412,8 +405,8 @@ pub struct ContactBatches {
     pub colours: usize,
     /// Per colour, a bit per body: the moving bodies it holds.
     used: Vec<Vec<u64>>,
-    /// Per constraint added, where it sits ([`NO_SLOT`]: in no group).
-    slot: Vec<Slot>,
+    /// Per constraint added, where it sits (`None`: in no group).
+    slot: Vec<Option<Slot>>,
 }
 
 impl ContactBatches {
@@ -463,7 +456,7 @@ impl ContactBatches {
     /// Constraint `ci` (the next index) is not in this build.
     pub fn skip(&mut self, ci: usize) {
         debug_assert_eq!(ci, self.slot.len());
-        self.slot.push(NO_SLOT);
+        self.slot.push(None);
     }
 
     /// Adds constraint `ci` (the next index): the first colour in which neither of its
@@ -475,7 +468,7 @@ impl ContactBatches {
         debug_assert_eq!(ci, self.slot.len());
         if c.rolling_arm > 0.0 || c.follows {
             self.scalar.push(ci);
-            self.slot.push(NO_SLOT);
+            self.slot.push(None);
             return false;
         }
         let bit = |i: usize| (i / 64, 1u64 << (i % 64));
@@ -487,7 +480,7 @@ impl ContactBatches {
         };
         let Some(k) = self.used.iter().position(free) else {
             self.scalar.push(ci);
-            self.slot.push(NO_SLOT);
+            self.slot.push(None);
             return false;
         };
         let u = &mut self.used[k];
@@ -505,11 +498,11 @@ impl ContactBatches {
         let g = &mut groups[group];
         g.set_lane(lane, Some((ci, c)));
         g.lanes = lane + 1;
-        self.slot.push(Slot {
+        self.slot.push(Some(Slot {
             colour: k as u16,
             lane: lane as u16,
             group: group as u32,
-        });
+        }));
         true
     }
 
@@ -529,12 +522,9 @@ impl ContactBatches {
 
     /// Sets the softness of constraint `ci`'s lane to `c`'s, where `ci` is grouped.
     pub fn set_softness(&mut self, ci: usize, c: &ContactConstraint) {
-        let Some(&slot) = self.slot.get(ci) else {
+        let Some(&Some(slot)) = self.slot.get(ci) else {
             return;
         };
-        if slot.colour == NO_SLOT.colour {
-            return;
-        }
         let g = &mut self.colour_groups[slot.colour as usize][slot.group as usize];
         let l = slot.lane as usize;
         g.bias_rate.0[l] = c.softness.bias_rate;
@@ -599,11 +589,9 @@ impl ContactBatches {
     pub fn store_impulses(&self, manifolds: &mut [Manifold], impulse_substep: f64) {
         // In the constraints' order, which is the manifolds': the manifolds are written
         // front to back (the colours interleave them).
-        for slot in &self.slot {
-            if slot.colour != NO_SLOT.colour {
-                let g = &self.colour_groups[slot.colour as usize][slot.group as usize];
-                g.store_lane(manifolds, slot.lane as usize, impulse_substep);
-            }
+        for slot in self.slot.iter().flatten() {
+            let g = &self.colour_groups[slot.colour as usize][slot.group as usize];
+            g.store_lane(manifolds, slot.lane as usize, impulse_substep);
         }
     }
 }

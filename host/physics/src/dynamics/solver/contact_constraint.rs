@@ -281,7 +281,12 @@ impl ContactConstraint {
     /// Builds the constraint of manifold `mi` from the bodies' current state (the world
     /// prepares its constraints in place, [`ContactConstraint::prepare_in`]).
     #[cfg(test)]
-    pub(crate) fn prepare(bodies: &BodySet, m: &Manifold, mi: usize, settings: &ContactSettings) -> Self {
+    pub(crate) fn prepare(
+        bodies: &BodySet,
+        m: &Manifold,
+        mi: usize,
+        settings: &ContactSettings,
+    ) -> Self {
         let mut c = Self::blank();
         c.prepare_in(bodies, m, mi, settings);
         c
