@@ -34,6 +34,7 @@ mod parry_peer;
 mod peers;
 mod rapier_peer;
 mod run;
+mod suite;
 mod table3;
 mod tumbling_peers;
 

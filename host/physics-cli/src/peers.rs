@@ -31,13 +31,22 @@ pub enum PeersCmd {
         py: Python,
     },
     /// Steps the same scenes in our engine and in rapier3d (feature `rapier-peer`), sleeping
-    /// off and on: ms per step, ratio, drift.
+    /// off and on: ms per step, ratio, drift. With --suite, the committed benchmark suite
+    /// (resting stacks and scenes in motion) at both engines' defaults, sleeping off.
     Rapier {
         /// One JSON object `{"rows": [...]}` instead of a table.
         #[arg(long)]
         json: bool,
         #[command(flatten)]
         stacks: Stacks,
+        /// Run the committed suite (`host/physics/scenes/suite/` and the two stacks) instead
+        /// of --scenes: ms per step, ratio, ns per contact point per substep, deepest overlap.
+        #[arg(long, conflicts_with = "scenes")]
+        suite: bool,
+        /// With --suite: runs of each scene, ours and rapier interleaved; each keeps its best
+        /// median (1 … 20).
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u16).range(1..=20))]
+        repeats: u16,
     },
     /// Accuracy against time on the stacking scenes: ours over its substeps, rapier3d over
     /// its solver iterations (feature `rapier-peer`), sleeping off; the points, the front at
@@ -219,7 +228,13 @@ pub fn run(cmd: PeersCmd) -> Result<()> {
             out!("{}", py.run(&args)?);
             std::fs::remove_dir_all(&dir).ok();
         }
-        PeersCmd::Rapier { json, stacks } => {
+        PeersCmd::Rapier {
+            json,
+            stacks,
+            suite: true,
+            repeats,
+        } => crate::suite::run(stacks.steps, repeats as usize, json)?,
+        PeersCmd::Rapier { json, stacks, .. } => {
             crate::rapier_peer::run(&stacks.scenes, stacks.steps, json)?
         }
         PeersCmd::Front {

@@ -67,6 +67,17 @@ pub(crate) fn max_drift(start: &[[f64; 3]], now: &[[f64; 3]]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// What one run of a scene in rapier3d measured.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RapierRun {
+    /// Median ms per step.
+    pub ms: f64,
+    /// Largest drift of a dynamic body from its start (m).
+    pub drift: f64,
+    /// Deepest overlap of any contact after any step (m, ≥ 0), read outside the timing.
+    pub deepest: f64,
+}
+
 /// Steps scene `s` in rapier3d for `steps` steps: median ms per step and the largest drift of
 /// a dynamic body (m).
 #[cfg(feature = "rapier-peer")]
@@ -76,6 +87,17 @@ pub(crate) fn rapier_run(
     steps: u64,
     settings: RapierSettings,
 ) -> Result<(f64, f64)> {
+    rapier_measure(s, sleeping, steps, settings).map(|r| (r.ms, r.drift))
+}
+
+/// Steps scene `s` in rapier3d for `steps` steps ([`RapierRun`]).
+#[cfg(feature = "rapier-peer")]
+pub(crate) fn rapier_measure(
+    s: &virtual_physics::scene::SceneFile,
+    sleeping: bool,
+    steps: u64,
+    settings: RapierSettings,
+) -> Result<RapierRun> {
     use anyhow::bail;
     use rapier3d::prelude::*;
     use virtual_physics::scene::{BodyKindDesc, ShapeDesc};
@@ -159,12 +181,32 @@ pub(crate) fn rapier_run(
     };
     let start = pos(&w);
     let mut t = Vec::with_capacity(steps as usize);
+    let mut deepest: f64 = 0.0;
     for _ in 0..steps {
         let t0 = std::time::Instant::now();
         w.step();
         t.push(t0.elapsed().as_secs_f64() * 1e3);
+        for pair in w.contact_pairs() {
+            if let Some((_, c)) = pair.find_deepest_contact() {
+                deepest = deepest.max(-c.dist as f64);
+            }
+        }
     }
-    Ok((stats(&t).0, max_drift(&start, &pos(&w))))
+    Ok(RapierRun {
+        ms: stats(&t).0,
+        drift: max_drift(&start, &pos(&w)),
+        deepest,
+    })
+}
+
+#[cfg(not(feature = "rapier-peer"))]
+pub(crate) fn rapier_measure(
+    _: &virtual_physics::scene::SceneFile,
+    _: bool,
+    _: u64,
+    _: RapierSettings,
+) -> Result<RapierRun> {
+    Err(missing())
 }
 
 #[cfg(not(feature = "rapier-peer"))]

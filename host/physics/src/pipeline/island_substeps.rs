@@ -190,12 +190,15 @@ impl IslandSubsteps {
     }
 
     /// Decides each body's stiffness factor ([`IslandSubsteps::fine`]) and returns the largest
-    /// (1: none this step).
+    /// (1: none this step). Only islands at rest take one: an island with a point faster than
+    /// a fall through `speculative_distance` (m) under the step's gravity, `√(2 g d)`, is in
+    /// an impact or in flight, where no column stands under a static load.
     pub(crate) fn plan(
         &mut self,
         bodies: &BodySet,
         constraints: &[ContactConstraint],
         loads: &StepLoads<'_>,
+        speculative_distance: f64,
     ) -> usize {
         let n = bodies.len();
         self.fine.clear();
@@ -229,6 +232,12 @@ impl IslandSubsteps {
             if kinematic_moving(c.b) {
                 self.blocked[c.a] = true;
             }
+        }
+        // The leans are those of columns at rest: an island with a body in an impact or in
+        // flight is in motion, and keeps the step's substeps.
+        let settling = (2.0 * loads.gravity * speculative_distance).sqrt();
+        for i in (0..n).filter(|&i| moving(i) && !settles(bodies, i, settling)) {
+            self.blocked[i] = true;
         }
         for &(a, b) in loads.joint_pairs {
             self.blocked[a] = true;
@@ -462,6 +471,13 @@ impl IslandSubsteps {
         }
         most
     }
+}
+
+/// Whether no point of body `i` moves faster than `speed` (m/s): `|v| + |ω| ρ`, `ρ` its
+/// bounding radius.
+fn settles(bodies: &BodySet, i: usize, speed: f64) -> bool {
+    let radius = bodies.shape[i].bounding_radius();
+    bodies.vel[i].norm() + bodies.omega[i].norm() * radius <= speed
 }
 
 /// The least stiffness factor (–) that brings an elastic lean of `lean` (m) at the step's

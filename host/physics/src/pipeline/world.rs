@@ -1129,9 +1129,12 @@ impl World {
             &self.proxies[..],
         );
         let loads = StepLoads::new(stiffness, &self.gravity, sources, self.dt);
-        let factor = self
-            .island_substeps
-            .plan(&self.bodies, &self.constraints, &loads);
+        let factor = self.island_substeps.plan(
+            &self.bodies,
+            &self.constraints,
+            &loads,
+            self.settings.speculative_distance,
+        );
         if factor <= 1 {
             return;
         }

@@ -576,7 +576,8 @@ impl ContactConstraint {
     /// give. Beyond, the far side lifts and the points on the near side carry the whole
     /// weight, each row a spring of its effective mass, `m ω²`: they sink
     /// `weight / Σ m ω²`, and the body above tilts by that sink over the contact's width
-    /// along the offset.
+    /// along the offset. Where the line falls beyond the outermost point the column tips over
+    /// whatever the stiffness: no tilt at rest (0).
     pub(crate) fn column_tilt(
         &self,
         origin_a: &V3,
@@ -609,7 +610,8 @@ impl ContactConstraint {
             }
         }
         let span = near - far;
-        let lifts = near > 0.0 && e > near / 3.0 && span >= TILT_MIN_SPAN && stiffness > 0.0;
+        let lifts =
+            near > 0.0 && e > near / 3.0 && e < near && span >= TILT_MIN_SPAN && stiffness > 0.0;
         if !lifts {
             return 0.0;
         }

@@ -1,0 +1,146 @@
+#!/usr/bin/env python3
+"""Writes the scenes in motion of the benchmark suite (`vphys peers rapier --suite`).
+
+Run from anywhere: `python3 host/physics/scenes/suite/generate.py`. The scenes are
+deterministic (a fixed seed each): running it again writes the same files. Every body is
+unrotated (the rapier peer's translation takes unrotated boxes and spheres), the ground is
+the half-space z >= 0, the step is 1/60 s and the solver takes its defaults.
+"""
+import json
+import os
+import random
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+EFFECTS = ["gravity", "contacts", "friction"]
+
+
+def ground():
+    return {"name": "ground", "kind": "fixed",
+            "shape": {"type": "half_space", "normal": [0, 0, 1]}}
+
+
+def box(pos, h=0.5, mass=1.0, kind=None):
+    b = {"shape": {"type": "box", "half_extents": [h, h, h] if isinstance(h, float) else h},
+         "position": [round(x, 6) for x in pos]}
+    if kind:
+        b["kind"] = kind
+    else:
+        b["mass"] = mass
+    return b
+
+
+def sphere(pos, r=0.5, mass=1.0):
+    return {"shape": {"type": "sphere", "radius": r}, "mass": mass,
+            "position": [round(x, 6) for x in pos]}
+
+
+def scene(name, steps, bodies):
+    return {"name": name, "dt": 1.0 / 60.0, "steps": steps, "gravity": [0, 0, -9.81],
+            "effects": EFFECTS, "bodies": [ground()] + bodies}
+
+
+def rain(n, side, seed):
+    """n unit boxes over a side x side grid of columns, falling onto the ground and each
+    other: each column's boxes 2 m apart, every box jittered by up to 0.2 m."""
+    rng = random.Random(seed)
+    bodies = []
+    for i in range(n):
+        col, layer = i % (side * side), i // (side * side)
+        x = (col % side - (side - 1) / 2) * 1.6 + rng.uniform(-0.2, 0.2)
+        y = (col // side - (side - 1) / 2) * 1.6 + rng.uniform(-0.2, 0.2)
+        z = 1.0 + 2.0 * layer + rng.uniform(0.0, 0.4)
+        bodies.append(box([x, y, z]))
+    return bodies
+
+
+def walls(half, height, thick=0.5):
+    """Four fixed walls round the square |x|, |y| <= half."""
+    out = []
+    for sx, sy in [(1, 0), (-1, 0), (0, 1), (0, -1)]:
+        he = [thick, half + 2 * thick, height / 2] if sx else [half + 2 * thick, thick, height / 2]
+        pos = [sx * (half + thick), sy * (half + thick), height / 2]
+        out.append({"kind": "fixed", "shape": {"type": "box", "half_extents": he},
+                    "position": pos})
+    return out
+
+
+def heap(spheres, boxes, half, seed):
+    """Spheres and boxes of mixed sizes dropped into a walled bin."""
+    rng = random.Random(seed)
+    kinds = ["s"] * spheres + ["b"] * boxes
+    rng.shuffle(kinds)
+    side = int(2 * half / 1.2)
+    bodies = walls(half, 6.0)
+    for i, k in enumerate(kinds):
+        col, layer = i % (side * side), i // (side * side)
+        x = -half + 0.6 + (col % side) * 1.2 + rng.uniform(-0.05, 0.05)
+        y = -half + 0.6 + (col // side) * 1.2 + rng.uniform(-0.05, 0.05)
+        z = 0.8 + 1.25 * layer
+        if k == "s":
+            r = rng.uniform(0.3, 0.5)
+            bodies.append(sphere([x, y, z], r, mass=round(4.19 * r ** 3 * 1000 / 1000, 6)))
+        else:
+            h = [rng.uniform(0.25, 0.45) for _ in range(3)]
+            bodies.append(box([x, y, z], [round(v, 4) for v in h],
+                              mass=round(8 * h[0] * h[1] * h[2], 6)))
+    return bodies
+
+
+def pyramid(base, h=0.5, gap=0.05):
+    out = []
+    for row in range(base):
+        n = base - row
+        for i in range(n):
+            x = (i - (n - 1) / 2) * (2 * h + gap)
+            out.append(box([x, 0.0, h + row * 2 * h]))
+    return out
+
+
+def wreck(base, ball_mass, drop):
+    """A pyramid of unit boxes and a heavy ball dropped onto its top from `drop` m above."""
+    bodies = pyramid(base)
+    top = base * 1.0
+    bodies.append(sphere([0.0, 0.0, top + drop + 1.0], 1.0, mass=ball_mass))
+    return bodies
+
+
+def small_pyramids(count, base):
+    """`count` pyramids of `base` boxes in a row, 4 m apart."""
+    out = []
+    for k in range(count):
+        for b in pyramid(base):
+            b["position"][1] = round((k - (count - 1) / 2) * 4.0, 6)
+            out.append(b)
+    return out
+
+
+SCENES = {
+    "rain-1000": scene("1000 unit boxes raining onto the ground and each other", 300,
+                       rain(1000, 10, 1)),
+    "rain-400": scene("400 unit boxes raining onto the ground and each other", 300,
+                      rain(400, 8, 2)),
+    "heap-1000": scene("600 spheres and 400 boxes of mixed sizes falling into a walled bin",
+                       480, heap(600, 400, 6.0, 3)),
+    "heap-300": scene("200 spheres and 100 boxes of mixed sizes falling into a walled bin",
+                      480, heap(200, 100, 4.0, 4)),
+    "wreck-210": scene("a 200 kg ball dropped onto a 210-box pyramid", 360,
+                       wreck(20, 200.0, 2.0)),
+    "wreck-120": scene("a 1000 kg ball dropped onto a 120-box pyramid", 360,
+                       wreck(15, 1000.0, 4.0)),
+    "pyramids-20x10": scene("20 pyramids of 55 boxes each (base 10)", 300,
+                            small_pyramids(20, 10)),
+}
+
+
+def main():
+    for name, s in SCENES.items():
+        path = os.path.join(HERE, name + ".json")
+        with open(path + ".tmp", "w") as f:
+            json.dump(s, f, separators=(",", ":"))
+            f.write("\n")
+        os.replace(path + ".tmp", path)
+        print(f"wrote {path} ({len(s['bodies'])} bodies)")
+
+
+if __name__ == "__main__":
+    main()
