@@ -56,7 +56,8 @@ struct PatchLanes {
     twist_impulse: Lanes,
 }
 
-/// Four constraints of one colour (fewer in the last group of a colour: `lanes`).
+/// Four constraints of one colour with the same number of points (fewer in the last group
+/// of a colour and point count: `lanes`).
 #[derive(Clone, Debug, Default)]
 struct ContactGroup {
     /// Constraint index of each lane.
@@ -66,6 +67,8 @@ struct ContactGroup {
     a: [usize; WIDTH],
     b: [usize; WIDTH],
     lanes: usize,
+    /// Points of each lane's constraint: the solve and the warm start visit these alone.
+    point_count: usize,
     normal: LaneV3,
     tangents: [LaneV3; 2],
     ima: Lanes,
@@ -230,7 +233,7 @@ impl ContactGroup {
         let mut total = Lanes::splat(0.0);
         let mut ia = f.t[0].ia.scale(l0) + f.t[1].ia.scale(l1) + f.twist.ia.scale(tw);
         let mut ib = f.t[0].ib.scale(l0) + f.t[1].ib.scale(l1) + f.twist.ib.scale(tw);
-        for pl in &self.points {
+        for pl in &self.points[..self.point_count] {
             total = total + pl.normal_impulse;
             ia += pl.n.ia.scale(pl.normal_impulse);
             ib += pl.n.ib.scale(pl.normal_impulse);
@@ -255,11 +258,12 @@ impl ContactGroup {
         // The points' order, taken once per pass rather than per point (measured: towers-1120
         // 3–4 % and pyramid-1240 2 % faster, the same bits).
         let mut order: [usize; MAX_MANIFOLD_POINTS] = std::array::from_fn(|i| i);
+        let order = &mut order[..self.point_count];
         if pass.reverse {
             order.reverse();
         }
         let mut total = zero;
-        for &k in &order {
+        for &k in order.iter() {
             let pl = &mut self.points[k];
             let sep = nd + (dtb.dot(&pl.jb) - dta.dot(&pl.ja)) + pl.separation;
             let ahead = sep.gt(zero);
@@ -393,12 +397,15 @@ struct Slot {
 /// array afterwards, the fill read every constraint back from memory.
 #[derive(Debug, Default)]
 pub struct ContactBatches {
-    /// Per colour, its group buffers, kept across steps; the first
-    /// `members[k].div_ceil(WIDTH)` are this step's. Each colour's groups lie side by side
-    /// in the order they are solved.
+    /// Per colour, its group buffers, kept across steps; the first `live_groups[k]` are this
+    /// step's. Each colour's groups lie side by side in the order they are solved.
     colour_groups: Vec<Vec<ContactGroup>>,
-    /// Per colour, the constraints it holds this step.
-    members: Vec<usize>,
+    /// Per colour, its groups in use this step.
+    live_groups: Vec<usize>,
+    /// Per colour and point count, the group being filled (`None`: none yet, or full). A
+    /// group holds constraints of one point count, so that its solve visits no empty point
+    /// (a sphere's single point is not solved as four).
+    open: Vec<[Option<u32>; MAX_MANIFOLD_POINTS + 1]>,
     /// Constraints solved one at a time (rolling resistance, or no colour free).
     pub scalar: Vec<usize>,
     /// Colours used in the last build.
@@ -443,13 +450,21 @@ impl ContactBatches {
         let words = n_bodies.div_ceil(64);
         if self.used.len() < MAX_COLOURS {
             self.used.resize(MAX_COLOURS, Vec::new());
-            self.members.resize(MAX_COLOURS, 0);
+            self.live_groups.resize(MAX_COLOURS, 0);
+            self.open
+                .resize(MAX_COLOURS, [None; MAX_MANIFOLD_POINTS + 1]);
             self.colour_groups.resize_with(MAX_COLOURS, Vec::new);
         }
-        for (u, m) in self.used.iter_mut().zip(&mut self.members) {
+        for ((u, live), open) in self
+            .used
+            .iter_mut()
+            .zip(&mut self.live_groups)
+            .zip(&mut self.open)
+        {
             u.clear();
             u.resize(words, 0);
-            *m = 0;
+            *live = 0;
+            *open = [None; MAX_MANIFOLD_POINTS + 1];
         }
     }
 
@@ -488,16 +503,29 @@ impl ContactBatches {
             u[w] |= m;
         }
         self.colours = self.colours.max(k + 1);
-        let member = self.members[k];
-        self.members[k] += 1;
-        let (group, lane) = (member / WIDTH, member % WIDTH);
+        let points = c.len.min(MAX_MANIFOLD_POINTS);
         let groups = &mut self.colour_groups[k];
-        if groups.len() == group {
-            groups.push(ContactGroup::default());
-        }
+        let group = match self.open[k][points] {
+            Some(g) => g as usize,
+            None => {
+                let g = self.live_groups[k];
+                self.live_groups[k] += 1;
+                if groups.len() == g {
+                    groups.push(ContactGroup::default());
+                }
+                groups[g].lanes = 0;
+                groups[g].point_count = points;
+                self.open[k][points] = Some(g as u32);
+                g
+            }
+        };
         let g = &mut groups[group];
+        let lane = g.lanes;
         g.set_lane(lane, Some((ci, c)));
         g.lanes = lane + 1;
+        if g.lanes == WIDTH {
+            self.open[k][points] = None;
+        }
         self.slot.push(Some(Slot {
             colour: k as u16,
             lane: lane as u16,
@@ -510,9 +538,8 @@ impl ContactBatches {
     /// nothing.
     pub fn finish(&mut self) {
         for k in 0..self.colours {
-            let m = self.members[k];
-            if m % WIDTH != 0 {
-                let g = &mut self.colour_groups[k][m / WIDTH];
+            for g in self.open[k].iter().flatten() {
+                let g = &mut self.colour_groups[k][*g as usize];
                 for l in g.lanes..WIDTH {
                     g.set_lane(l, None);
                 }
@@ -536,9 +563,9 @@ impl ContactBatches {
     fn live(&self) -> impl Iterator<Item = &[ContactGroup]> {
         self.colour_groups
             .iter()
-            .zip(&self.members)
+            .zip(&self.live_groups)
             .take(self.colours)
-            .map(|(g, &m)| &g[..m.div_ceil(WIDTH)])
+            .map(|(g, &live)| &g[..live])
     }
 
     /// Number of four-lane groups.
@@ -560,17 +587,10 @@ impl ContactBatches {
         for (g, &m) in self
             .colour_groups
             .iter_mut()
-            .zip(&self.members)
+            .zip(&self.live_groups)
             .take(self.colours)
         {
-            solve_on(
-                isa,
-                &mut g[..m.div_ceil(WIDTH)],
-                bodies,
-                inv_h,
-                max_push,
-                pass,
-            );
+            solve_on(isa, &mut g[..m], bodies, inv_h, max_push, pass);
         }
     }
 
@@ -855,5 +875,44 @@ mod tests {
                 assert_ne!(batch_bodies.vel, base.vel);
             }
         }
+    }
+
+    #[test]
+    fn constraints_of_different_point_counts_are_grouped_apart_and_solved_alike() {
+        // Independent constraints of 1, 2, 3 and 4 points, twice each: one colour, a group per
+        // point count that visits that many points, and the scalar solve's bits.
+        let n = 17;
+        let base = bodies(n);
+        let pick: Vec<ContactConstraint> = (0..8)
+            .map(|j| {
+                let i = 2 * j;
+                let mut m = manifold(i);
+                m.len = 1 + j % 4;
+                ContactConstraint::prepare(&base, &m, i, &ContactSettings::default())
+            })
+            .collect();
+        let mut batches = ContactBatches::default();
+        batches.build(&pick, n);
+        assert_eq!((batches.colours, batches.groups()), (1, 4));
+        for g in batches.live().flatten() {
+            assert_eq!(g.lanes, 2);
+            for l in 0..g.lanes {
+                assert_eq!(pick[g.constraint[l]].len, g.point_count);
+            }
+        }
+        let pass = SolvePass {
+            use_bias: true,
+            reverse: true,
+        };
+        let (mut scalar_bodies, mut scalar) = (base.clone(), pick.clone());
+        for c in &mut scalar {
+            c.warm_start(&mut scalar_bodies);
+            c.solve(&mut scalar_bodies, 720.0, 3.0, pass);
+        }
+        let mut batch_bodies = base.clone();
+        batches.warm_start(&mut batch_bodies);
+        batches.solve(&mut batch_bodies, 720.0, 3.0, pass);
+        assert_eq!(scalar_bodies.vel, batch_bodies.vel);
+        assert_eq!(scalar_bodies.omega, batch_bodies.omega);
     }
 }

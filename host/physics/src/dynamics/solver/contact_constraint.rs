@@ -1003,4 +1003,23 @@ mod tests {
         let double = c.column_tilt(&origin, &V3::new(0.3, 0.0, 13.0), 2.0 * weight, &up, omega);
         assert!((double - 2.0 * expected).abs() <= 1e-12 * expected);
     }
+
+    #[test]
+    fn a_column_whose_centre_of_mass_falls_beyond_its_contact_predicts_no_tilt() {
+        let (b, c) = box_on_box();
+        let (origin, up, weight) = (b.pos[0], V3::z(), 24.0 * 9.81);
+        let omega = 2.0 * std::f64::consts::PI * 180.0;
+        // The contact's points lie 0.5 m from its centroid along x: just inside, the near
+        // edge carries the column; beyond, the column tips over whatever the stiffness.
+        let inside = c.column_tilt(&origin, &V3::new(0.49, 0.0, 13.0), weight, &up, omega);
+        assert!(inside > 0.0, "{inside}");
+        for x in [0.5, 0.51, 2.0, -0.7] {
+            let com = V3::new(x, 0.0, 13.0);
+            assert_eq!(
+                c.column_tilt(&origin, &com, weight, &up, omega),
+                0.0,
+                "x = {x}"
+            );
+        }
+    }
 }
