@@ -27,8 +27,8 @@
 //! step's 12 substeps carry, sank through it within 3 s in four of six runs at 96 substeps,
 //! contacts at 950–970 Hz).
 
-use super::super::tree_contacts::Proxy;
-use super::super::union_find::UnionFind;
+use super::tree_contacts::Proxy;
+use super::union_find::UnionFind;
 use crate::dynamics::solver::softness::UNEVEN_MASS_RATIO;
 use crate::dynamics::solver::{ContactConstraint, ContactStiffness};
 use crate::dynamics::{BodyKind, BodySet};

@@ -1,7 +1,8 @@
 //! Proxies of tree links in the body set: how links with shapes take part in collision
 //! detection (see `tree_contacts`).
 
-use super::{Proxy, World};
+use super::tree_contacts::Proxy;
+use super::world::World;
 use crate::algebra::SE3;
 use crate::dynamics::{BodyKind, DynamicsError};
 use crate::geometry::{Compound, Part, V3};

@@ -24,7 +24,23 @@ mod pose_lanes;
 mod tree_contacts;
 mod union_find;
 pub mod world;
+mod world_bodies;
 mod world_builder;
+mod world_contacts;
+pub(crate) mod world_joints;
+mod world_state;
+mod world_trees;
+// The step's stages beside the world (each an `impl World` block or its own state).
+mod ccd;
+pub(crate) mod island_substeps;
+mod link_proxies;
+mod resting_substeps;
+mod settings;
+pub(crate) mod sink_hold;
+mod step;
+mod step_guard;
+mod substep_plan;
+mod warm_start_replay;
 
 pub use body_builder::{BodyBuilder, DEFAULT_DENSITY};
 pub use counters::{Stage, StepCounters};
@@ -33,8 +49,9 @@ pub use effects::{Effect, Effects};
 pub use handles::{BodyHandle, JointHandle, LinkHandle, TreeHandle};
 pub use integrator::IntegratorKind;
 pub(crate) use integrator::{FreeForces, FreeIntegrator};
-pub use world::world_joints::{
+pub use settings::SolverSettings;
+pub use world::{BodyMut, BodyRef, Contact, World};
+pub use world_builder::WorldBuilder;
+pub use world_joints::{
     FreeJointKind, JointBuilder, JointError, JointKindError, JointMut, JointRef,
 };
-pub use world::{BodyMut, BodyRef, Contact, SolverSettings, World};
-pub use world_builder::WorldBuilder;

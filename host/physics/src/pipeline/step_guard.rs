@@ -27,7 +27,7 @@
 //! the public fields is not checked again; if it makes the state non-finite, the check
 //! after the step catches it.
 
-use super::World;
+use super::world::World;
 use crate::dynamics::solver::FreeJoint;
 use crate::dynamics::{BodyKind, DynamicsError};
 use crate::geometry::{Aabb, Shape, M3, V3};

@@ -4,7 +4,7 @@
 //! (m, world) and its rotation is world from body (the body axes are its principal axes);
 //! velocities are world-frame, linear of the centre of mass (m/s) and angular (rad/s).
 
-use super::World;
+use super::world::World;
 use crate::algebra::SE3;
 use crate::dynamics::{BodyKind, BodySet};
 use crate::geometry::{Material, Shape, M3, V3};

@@ -1,6 +1,6 @@
 //! The world's contacts through handles: what touches what after a step.
 
-use super::World;
+use super::world::World;
 use crate::geometry::{Manifold, V3};
 use crate::pipeline::BodyHandle;
 

@@ -11,7 +11,7 @@
 //! world's substep `dt / substeps` as it is when the joint is inserted or last reached through
 //! [`World::joint_mut`].
 
-use super::World;
+use super::world::World;
 use crate::dynamics::solver::{DofLimits, DofMotor, FreeJoint, MAX_DRIVEN_DOFS};
 pub use crate::dynamics::solver::{FreeJointKind, JointKindError};
 use crate::dynamics::BodyKind;

@@ -1,6 +1,6 @@
 //! The world's clock, gravity, effects, settings and counters.
 
-use super::World;
+use super::world::World;
 use crate::geometry::V3;
 use crate::pipeline::{Effects, SolverSettings, StepCounters};
 

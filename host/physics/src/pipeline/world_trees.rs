@@ -1,6 +1,6 @@
 //! The world's articulated trees through handles, and how their links meet the bodies.
 
-use super::World;
+use super::world::World;
 use crate::algebra::SE3;
 use crate::geometry::V3;
 use crate::pipeline::articulated::ArticulatedSystem;
