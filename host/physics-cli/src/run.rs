@@ -224,35 +224,35 @@ pub fn bench(
         w.settings_mut().contact_hertz = hz;
     }
     if overrides.rigid {
-        w.settings_mut().soft_contacts = false;
+        w.variants_mut().soft_contacts = false;
     }
     if overrides.scalar_contacts {
-        w.settings_mut().batch_contacts = false;
+        w.variants_mut().batch_contacts = false;
     }
     if overrides.relax_last_only {
-        w.settings_mut().relax_each_substep = false;
+        w.variants_mut().relax_each_substep = false;
     }
     if overrides.fixed_substeps {
-        w.settings_mut().fewer_substeps_at_rest = false;
+        w.variants_mut().fewer_substeps_at_rest = false;
     }
     if overrides.contact_warm_start {
-        w.settings_mut().replay_warm_start = false;
+        w.variants_mut().replay_warm_start = false;
     }
     if overrides.no_sink_hold {
-        w.settings_mut().hold_sink = false;
+        w.variants_mut().hold_sink = false;
     }
     if overrides.rebuild_broad_phase {
-        w.settings_mut().keep_broad_phase_pairs = false;
+        w.variants_mut().keep_broad_phase_pairs = false;
     }
     if overrides.keep_contact_constraints {
-        w.settings_mut().lean_resting_contacts = false;
+        w.variants_mut().lean_resting_contacts = false;
     }
     if let Some(cap) = overrides.hertz_cap {
         anyhow::ensure!(
             cap.is_finite() && cap > 0.0,
             "--hertz-cap must be a positive number, got {cap}"
         );
-        w.settings_mut().contact_hertz_cap = cap;
+        w.variants_mut().contact_hertz_cap = cap;
     }
     let n = steps.or(s.steps).unwrap_or(600).min(MAX_STEPS);
     let start = bodies::positions(&w);
@@ -275,16 +275,16 @@ pub fn bench(
         "max_penetration_m": w.max_penetration(),
         "mean_contact_points": points, "ns_per_contact_point_substep": ns_per_point_substep,
         "substeps": substeps, "mean_substeps_taken": taken,
-        "fewer_substeps_at_rest": w.settings().fewer_substeps_at_rest,
-        "replay_warm_start": w.settings().replay_warm_start,
-        "hold_sink": w.settings().hold_sink,
-        "keep_broad_phase_pairs": w.settings().keep_broad_phase_pairs,
-        "lean_resting_contacts": w.settings().lean_resting_contacts,
+        "fewer_substeps_at_rest": w.variants().fewer_substeps_at_rest,
+        "replay_warm_start": w.variants().replay_warm_start,
+        "hold_sink": w.variants().hold_sink,
+        "keep_broad_phase_pairs": w.variants().keep_broad_phase_pairs,
+        "lean_resting_contacts": w.variants().lean_resting_contacts,
         "contact_hertz": w.settings().contact_hertz,
-        "soft_contacts": w.settings().soft_contacts,
-        "batch_contacts": w.settings().batch_contacts,
-        "contact_hertz_cap": w.settings().contact_hertz_cap,
-        "relax_each_substep": w.settings().relax_each_substep,
+        "soft_contacts": w.variants().soft_contacts,
+        "batch_contacts": w.variants().batch_contacts,
+        "contact_hertz_cap": w.variants().contact_hertz_cap,
+        "relax_each_substep": w.variants().relax_each_substep,
     });
     outln!("{out}");
     Ok(())

@@ -20,7 +20,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     s.effects.retain(|e| *e != Effect::Sleeping);
     let mut w = s.build()?;
     w.settings_mut().substeps = substeps;
-    w.settings_mut().fewer_substeps_at_rest = false;
+    w.variants_mut().fewer_substeps_at_rest = false;
     let positions =
         |w: &World| -> Vec<[f64; 3]> { w.bodies().map(|b| b.position().into()).collect() };
     for _ in 0..60 {

@@ -46,7 +46,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         settings.contact_hertz = hz;
     }
     if let Some(&x) = args.get(2) {
-        settings.even_mass_stiffening = x;
+        w.variants_mut().even_mass_stiffening = x;
     }
     // The contact of box 1 on box 0 spans x from the upper box's left face to the lower
     // box's right face (0.5 m); the 24 boxes above it have their centre of mass

@@ -69,7 +69,7 @@ fn orthonormality_error(r: &Matrix3<f64>) -> f64 {
 /// 2 cm sideways (measured 0.3 mm over 20 s), the top sinks less than 5 cm (measured 1.6 cm),
 /// and the penetration stays below 5 mm. (With every contact at 120 Hz the tower is too soft:
 /// it leaned 12 cm in 20 s; contacts between equal masses are stiffer by default,
-/// `SolverSettings::even_mass_stiffening`.)
+/// `SolverVariants::even_mass_stiffening`.)
 #[test]
 fn case01_tower_of_40_boxes_stands() {
     let s = towers(1, 1, 40);

@@ -1,5 +1,5 @@
 //! A world at rest that keeps its decision on fewer substeps prepares the contacts it solves
-//! four at a time straight into their lanes (`SolverSettings::lean_resting_contacts`): it
+//! four at a time straight into their lanes (`SolverVariants::lean_resting_contacts`): it
 //! steps to the same bits as with every constraint kept whole.
 
 use virtual_physics::dynamics::Material;
@@ -15,7 +15,7 @@ fn pyramid_and_ball(lean: bool) -> World {
     s.effects.retain(|e| *e != Effect::Sleeping);
     s.effects.push(Effect::RollingResistance);
     let mut w = s.build().unwrap();
-    w.settings_mut().lean_resting_contacts = lean;
+    w.variants_mut().lean_resting_contacts = lean;
     w.insert_body(
         BodyBuilder::dynamic(Shape::Cylinder {
             radius: 0.3,

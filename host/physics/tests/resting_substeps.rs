@@ -110,7 +110,7 @@ fn an_added_body_counts_the_rest_afresh() {
 #[test]
 fn switched_off_every_step_takes_the_settings_substeps() {
     let mut w = awake(pyramid(5));
-    w.settings_mut().fewer_substeps_at_rest = false;
+    w.variants_mut().fewer_substeps_at_rest = false;
     let taken = steps(&mut w, 120);
     assert!(taken.iter().all(|&n| n == 12), "{taken:?}");
 }

@@ -40,7 +40,7 @@ fn a_tower_on_soft_contacts_stands_at_its_slop() {
         let mut w = towers(1, 1, 20).build().unwrap();
         w.settings_mut().substeps = 4;
         w.settings_mut().contact_hertz = 30.0;
-        w.settings_mut().hold_sink = hold;
+        w.variants_mut().hold_sink = hold;
         let z0 = body_at(&w, 20).position().z;
         for _ in 0..300 {
             w.step().unwrap();
@@ -69,7 +69,7 @@ fn a_tower_on_soft_contacts_stands_at_its_slop() {
 fn a_pyramid_taking_fewer_substeps_does_not_sink() {
     let run = |hold: bool| {
         let mut w = awake(pyramid(5));
-        w.settings_mut().hold_sink = hold;
+        w.variants_mut().hold_sink = hold;
         let start = positions(&w);
         let mut worst: f64 = 0.0;
         let mut fewer = 0;
@@ -103,7 +103,7 @@ fn an_impact_is_not_held() {
         let mut s = towers(1, 1, 1);
         s.bodies[1].position = [0.0, 0.0, 2.5];
         let mut w = awake(s);
-        w.settings_mut().hold_sink = hold;
+        w.variants_mut().hold_sink = hold;
         let mut top = f64::NEG_INFINITY;
         let mut landed = false;
         for _ in 0..240 {

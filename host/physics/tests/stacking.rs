@@ -77,7 +77,7 @@ fn the_stand_test_can_fail_soft_contacts_sink() {
     let mut w = s.build().unwrap();
     w.settings_mut().substeps = 4;
     w.settings_mut().contact_hertz = 30.0;
-    w.settings_mut().hold_sink = false;
+    w.variants_mut().hold_sink = false;
     let z0 = body_at(&w, 20).position().z;
     for _ in 0..120 {
         w.step().unwrap();

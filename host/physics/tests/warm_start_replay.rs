@@ -12,7 +12,7 @@ fn pyramid_world(replay: bool) -> World {
     let mut s = pyramid(5);
     s.effects.retain(|e| *e != Effect::Sleeping);
     let mut w = s.build().unwrap();
-    w.settings_mut().replay_warm_start = replay;
+    w.variants_mut().replay_warm_start = replay;
     w
 }
 
@@ -71,7 +71,7 @@ fn a_world_with_joints_keeps_the_contacts_own_warm_start() {
         let mut w = World::builder(effects)
             .gravity(V3::new(0.0, 0.0, -9.81))
             .build();
-        w.settings_mut().replay_warm_start = replay;
+        w.variants_mut().replay_warm_start = replay;
         w.insert_body(BodyBuilder::fixed(Shape::HalfSpace { normal: V3::z() }));
         let mut prev = None;
         for k in 0..6 {
@@ -102,7 +102,7 @@ fn a_contact_that_follows_a_turn_keeps_its_own_warm_start() {
     let scene = virtual_physics::scene::SceneFile::from_path(&path).unwrap();
     let run = |replay: bool| {
         let mut w = scene.build().unwrap();
-        w.settings_mut().replay_warm_start = replay;
+        w.variants_mut().replay_warm_start = replay;
         state_after(&mut w, 60)
     };
     assert_eq!(run(true), run(false));

@@ -83,7 +83,7 @@ pub struct StepCounters {
     /// again.
     pub manifolds_refreshed: usize,
     /// Contact constraints prepared straight into their lanes, not kept whole (a world at
-    /// rest, `SolverSettings::lean_resting_contacts`).
+    /// rest, `SolverVariants::lean_resting_contacts`).
     pub lean_contacts: usize,
     /// Manifolds with points.
     pub manifolds: usize,

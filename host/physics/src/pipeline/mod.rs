@@ -50,6 +50,8 @@ pub use handles::{BodyHandle, JointHandle, LinkHandle, TreeHandle};
 pub use integrator::IntegratorKind;
 pub(crate) use integrator::{FreeForces, FreeIntegrator};
 pub use settings::SolverSettings;
+#[cfg(feature = "variants")]
+pub use settings::SolverVariants;
 pub use world::{BodyMut, BodyRef, Contact, World};
 pub use world_builder::WorldBuilder;
 pub use world_joints::{

@@ -119,7 +119,7 @@ pub(crate) struct RestingWorld<'a> {
     /// Whether anything but free bodies in contact is stepped: joints, articulated trees,
     /// a moving kinematic body.
     pub more_than_contacts: bool,
-    /// Whether the contacts hold back their sink (`SolverSettings::hold_sink`).
+    /// Whether the contacts hold back their sink (`SolverVariants::hold_sink`).
     pub hold_sink: bool,
     /// The step's substeps.
     pub substeps: usize,

@@ -138,7 +138,7 @@ impl World {
         self.counters.broad_phase_tests = broad.update(
             &b.collision_view(),
             &self.excluded_pairs,
-            self.settings.keep_broad_phase_pairs,
+            self.variants.keep_broad_phase_pairs,
         );
         self.counters.broad_phase_pairs = broad.pairs.len();
         let bodies = &*b;
@@ -172,7 +172,7 @@ impl World {
         self.counters.manifolds = nc.manifolds;
         self.counters.contacts = nc.contacts;
         self.counters.unsupported_pairs = nc.unsupported;
-        if let Some(up) = &self.settings.hold_up(&self.effects, &self.gravity) {
+        if let Some(up) = &self.variants.hold_up(&self.effects, &self.gravity) {
             let (bodies, proxies) = (&self.bodies, &self.proxies);
             let solved = |m: &Manifold| solved_between_free_bodies(bodies, proxies, m);
             self.sink_hold
@@ -186,11 +186,11 @@ impl World {
     /// whole only what is solved one by one); each manifold with a tree link on a side becomes
     /// a tree contact.
     fn prepare_contacts(&mut self) -> Result<PreparedContacts, DynamicsError> {
-        let batch = self.settings.batch_contacts;
+        let batch = self.variants.batch_contacts;
         if batch {
             self.batches.begin(self.bodies.len());
         }
-        let predicted = self.last_stiffness.filter(|_| self.settings.soft_contacts);
+        let predicted = self.last_stiffness.filter(|_| self.variants.soft_contacts);
         let settings = self.contact_settings();
         // A world at rest that keeps its decision on fewer substeps reads its grouped
         // constraints from their lanes alone: they are prepared in cache and not kept.
@@ -340,7 +340,7 @@ impl World {
         // Only the contacts change the free bodies' velocities in the solve, through rows
         // fixed for the step, and the pose stage leaves the velocities alone: the contacts'
         // warm start can be replayed per body.
-        let replay = self.settings.replay_warm_start
+        let replay = self.variants.replay_warm_start
             && n_sub > 1
             && !self.constraints.is_empty()
             && !prepared.follows
@@ -403,18 +403,18 @@ impl World {
     ) -> (Softness, Softness) {
         let inv_h = 1.0 / h;
         let at_rest = n_sub < self.settings.substeps.max(1);
-        let s = self.settings;
-        let hz = s.contact_hertz.min(s.contact_hertz_cap * inv_h);
+        let (s, v) = (self.settings, self.variants);
+        let hz = s.contact_hertz.min(v.contact_hertz_cap * inv_h);
         self.fine_factor = 1;
-        if !s.soft_contacts {
-            let rigid = Softness::rigid(s.contact_bias_rate.min(0.5 * inv_h));
+        if !v.soft_contacts {
+            let rigid = Softness::rigid(v.contact_bias_rate.min(0.5 * inv_h));
             for (ci, c) in self.constraints.iter_mut().enumerate() {
                 c.set_softness(rigid);
                 self.batches.set_softness(ci, c);
             }
             return (rigid, rigid);
         }
-        let stiffness = s.stiffness_on(h, self.dt);
+        let stiffness = v.stiffness_on(&s, h, self.dt);
         // A lean step's lanes hold this stiffness already, and its constraints are not read.
         if prepared_again || (!lean_holds && prepared.predicted != Some(stiffness)) {
             for (ci, c) in self.constraints.iter_mut().enumerate() {
@@ -439,7 +439,7 @@ impl World {
     /// constraints changed since (`changed`: carried impulses rescaled to a changed substep,
     /// or prepared again): then they are grouped again from the constraints.
     fn regroup_contacts(&mut self, changed: bool) {
-        self.batched = self.settings.batch_contacts && !self.constraints.is_empty();
+        self.batched = self.variants.batch_contacts && !self.constraints.is_empty();
         if !self.batched {
             return;
         }
@@ -538,7 +538,7 @@ impl World {
                 }
             }
             self.counters.solver_iterations += 1;
-            if self.settings.relax_each_substep || sub + 1 == n_sub {
+            if self.variants.relax_each_substep || sub + 1 == n_sub {
                 self.solve_pass(
                     plan,
                     SolvePass {

@@ -116,12 +116,12 @@ impl World {
         if self.settings.substeps == 0 {
             return param("settings.substeps".into(), "at least 1", 0.0);
         }
-        let s = &self.settings;
+        let (s, v) = (&self.settings, &self.variants);
         for (what, value) in [
             ("settings.contact_hertz", s.contact_hertz),
-            ("settings.contact_hertz_cap", s.contact_hertz_cap),
+            ("variants.contact_hertz_cap", v.contact_hertz_cap),
             ("settings.contact_damping_ratio", s.contact_damping_ratio),
-            ("settings.contact_bias_rate", s.contact_bias_rate),
+            ("variants.contact_bias_rate", v.contact_bias_rate),
             ("settings.joint_hertz", s.joint_hertz),
             ("settings.joint_damping_ratio", s.joint_damping_ratio),
             ("settings.speculative_distance", s.speculative_distance),

@@ -29,10 +29,10 @@ impl World {
         predicted: Option<ContactStiffness>,
     ) -> Option<ContactLeanStep> {
         let eff = &self.effects;
-        let plain = self.settings.lean_resting_contacts
-            && self.settings.batch_contacts
-            && self.settings.soft_contacts
-            && self.settings.fewer_substeps_at_rest
+        let plain = self.variants.lean_resting_contacts
+            && self.variants.batch_contacts
+            && self.variants.soft_contacts
+            && self.variants.fewer_substeps_at_rest
             && eff.has(Effect::Gravity)
             && !eff.has(Effect::Restitution)
             && self.articulated.is_empty()
@@ -44,7 +44,7 @@ impl World {
         }
         let substeps = self.resting_substeps.kept_for(&self.bodies, n_sub, dt)?;
         let substep = dt / substeps as f64;
-        let stiffness = self.settings.stiffness_on(substep, dt);
+        let stiffness = self.variants.stiffness_on(&self.settings, substep, dt);
         // The stiffness the constraints took last step (`predicted`, which each is stiffened
         // with as it is prepared), so that nothing is stiffened again.
         (predicted == Some(stiffness)).then_some(ContactLeanStep { substeps, substep })
@@ -71,8 +71,8 @@ impl World {
     /// articulated trees are solved with the free bodies.
     pub(super) fn substeps_at_rest(&mut self, n_sub: usize, coupled: bool) -> usize {
         let g = self.gravity.norm();
-        let allowed = self.settings.fewer_substeps_at_rest
-            && self.settings.soft_contacts
+        let allowed = self.variants.fewer_substeps_at_rest
+            && self.variants.soft_contacts
             && self.effects.has(Effect::Gravity)
             && g > 0.0;
         if !allowed {
@@ -85,7 +85,9 @@ impl World {
             || !self.articulated.is_empty()
             || !self.tree_contacts.contacts.is_empty()
             || self.kinematic_moving();
-        let stiffness = self.settings.contact_stiffness(self.dt / n_sub as f64);
+        let stiffness = self
+            .variants
+            .contact_stiffness(&self.settings, self.dt / n_sub as f64);
         let world = RestingWorld {
             loads: StepLoads::new(
                 &stiffness,
@@ -94,17 +96,17 @@ impl World {
                 self.dt,
             ),
             more_than_contacts,
-            hold_sink: self.settings.hold_sink,
+            hold_sink: self.variants.hold_sink,
             substeps: n_sub,
         };
-        let settings = self.settings;
+        let (settings, variants) = (self.settings, self.variants);
         let dt = self.dt;
         self.resting_substeps.substeps(
             &self.bodies,
             &self.constraints,
             &mut self.island_substeps,
             &world,
-            |n| settings.stiffness_on(dt / n as f64, dt),
+            |n| variants.stiffness_on(&settings, dt / n as f64, dt),
         )
     }
 
@@ -135,7 +137,7 @@ impl World {
         // Each island's contacts its own factor times as stiff, on as many substeps as keep
         // the stiffest within the cap (none more where the step's contacts are far below it,
         // as at 1 ms).
-        let cap = self.settings.contact_hertz_cap / stiffness.substep;
+        let cap = self.variants.contact_hertz_cap / stiffness.substep;
         let stiffest = stiffness.hertz.max(stiffness.even_hertz) * factor as f64;
         let substeps = ((stiffest / cap).ceil() as usize).clamp(1, factor);
         let stiffer = |k: usize| {
@@ -181,7 +183,7 @@ impl World {
             return false;
         };
         let fine_h = h / self.fine_factor as f64;
-        let hold_up = self.settings.hold_up(&self.effects, &self.gravity);
+        let hold_up = self.variants.hold_up(&self.effects, &self.gravity);
         let reach = self.settings.speculative_distance;
         let fine = &self.fine_constraint;
         let substep = |ci: usize| if fine[ci] { fine_h } else { h };
@@ -197,13 +199,13 @@ impl World {
         // The holds follow the stiffness where the substep changed (the manifolds keep the
         // substep their impulses were carried over until the store).
         if let (Some(up), true) = (&hold_up, changed) {
-            let (settings, dt) = (&self.settings, self.dt);
+            let (settings, variants, dt) = (&self.settings, &self.variants, self.dt);
             let changes = |ci: usize, m: &Manifold| {
                 let (carried, now) = (m.impulse_substep, substep(ci));
                 (carried > 0.0 && carried != now).then(|| {
                     (
-                        settings.stiffness_on(carried, dt),
-                        settings.stiffness_on(now, dt),
+                        variants.stiffness_on(settings, carried, dt),
+                        variants.stiffness_on(settings, now, dt),
                     )
                 })
             };
@@ -233,7 +235,7 @@ impl World {
                 .integrate_velocities(&mut self.bodies, h, forces);
             self.fine_contacts(|c, b| c.warm_start(b), |g, b| g.warm_start(b));
             let rev = sub % 2 == 1;
-            let relax = self.settings.relax_each_substep || sub + 1 == substeps;
+            let relax = self.variants.relax_each_substep || sub + 1 == substeps;
             for (use_bias, reverse) in [(true, rev), (false, !rev)] {
                 if !use_bias && !relax {
                     break;

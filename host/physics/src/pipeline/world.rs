@@ -6,6 +6,7 @@ use super::handles::{BodyHandle, JointHandle, Slots};
 use super::island_substeps::IslandSubsteps;
 use super::islands::Islands;
 use super::resting_substeps::RestingSubsteps;
+use super::settings::SolverVariants;
 use super::sink_hold::SinkHold;
 use super::step_guard;
 use super::tree_contacts::{Proxy, TreeContacts, TreeDisplacements};
@@ -32,6 +33,8 @@ pub struct World {
     pub(crate) gravity: V3,
     /// Solver settings.
     pub(crate) settings: SolverSettings,
+    /// The solver's internal optimizations and alternative forms.
+    pub(crate) variants: SolverVariants,
     /// Joints between free bodies.
     pub(crate) joints: Vec<FreeJoint>,
     /// The joints' forest, solved as one system when the joints close no loop.
@@ -122,6 +125,7 @@ impl World {
             dt,
             gravity,
             settings,
+            variants: SolverVariants::default(),
             joints: Vec::new(),
             joint_graph: JointGraph::default(),
             articulated: Vec::new(),

@@ -45,6 +45,19 @@ impl World {
         &mut self.settings
     }
 
+    /// The solver's internal optimizations and alternative forms (feature `variants`), for
+    /// benchmarks and equivalence tests: each is on by default.
+    #[cfg(feature = "variants")]
+    pub fn variants(&self) -> &super::SolverVariants {
+        &self.variants
+    }
+
+    /// The same, to change between steps (checked by the next step).
+    #[cfg(feature = "variants")]
+    pub fn variants_mut(&mut self) -> &mut super::SolverVariants {
+        &mut self.variants
+    }
+
     /// What the last step did: stages run, pairs tested, contacts, iterations.
     pub fn counters(&self) -> &StepCounters {
         &self.counters
