@@ -232,7 +232,6 @@ fn factor_and_solve(
     impulses: &mut [f64],
     dqd: &mut [f64],
 ) -> Result<bool, DynamicsError> {
-    let LinearSystem { h, hv, hq, .. } = *system;
     let nv = model.nv();
     if ws.nbodies != model.len() || ws.ndofs != nv {
         return Err(DynamicsError::Workspace {
@@ -255,10 +254,26 @@ fn factor_and_solve(
             });
         }
     }
+    link_maps(model, ws, q, qd, system);
+    if !eliminate_joints(model, ws, tau, system)? {
+        return Ok(false);
+    }
+    back_substitute(model, ws, tau, system, impulses, dqd);
+    Ok(true)
+}
+
+/// The forward pass: each link's kinematics, its Newton–Euler wrench at `q̈ = 0`, and the
+/// linear maps of its motion change (`x`, `ŝ`, `P`) over the step of `system`.
+fn link_maps(
+    model: &ArticulatedTree<f64>,
+    ws: &mut ImplicitWorkspace,
+    q: &[f64],
+    qd: &[f64],
+    system: &LinearSystem,
+) {
+    let LinearSystem { hv, hq, .. } = *system;
     let bodies = model.bodies();
     let base_acc = se3::new(Vec3::zeros(), -model.gravity());
-
-    // Forward: kinematics, Newton–Euler wrenches at q̈ = 0, and the per-link linear maps.
     for (i, body) in bodies.iter().enumerate() {
         let (qo, vo, d) = (body.q_offset, body.v_offset, body.nv());
         let qdi = &qd[vo..vo + d];
@@ -315,8 +330,18 @@ fn factor_and_solve(
         ws.p[i] = p;
         ws.pb[i] = V6::zeros();
     }
+}
 
-    // Backward: eliminate each joint, children first.
+/// The backward pass: each joint eliminated, children first, its wrenches handed to its
+/// parent. `Ok(false)` when a free joint pivot falls below [`PIVOT_FLOOR`].
+fn eliminate_joints(
+    model: &ArticulatedTree<f64>,
+    ws: &mut ImplicitWorkspace,
+    tau: &[f64],
+    system: &LinearSystem,
+) -> Result<bool, DynamicsError> {
+    let LinearSystem { h, hv, hq, .. } = *system;
+    let bodies = model.bodies();
     for i in (0..bodies.len()).rev() {
         let body = &bodies[i];
         let (vo, d) = (body.v_offset, body.nv());
@@ -372,7 +397,21 @@ fn factor_and_solve(
             ws.f0[parent] += f0c;
         }
     }
+    Ok(true)
+}
 
+/// The forward substitution: each joint's velocity change into `dqd` and each link's motion
+/// change, then what the prescribed coordinates took into `impulses`.
+fn back_substitute(
+    model: &ArticulatedTree<f64>,
+    ws: &mut ImplicitWorkspace,
+    tau: &[f64],
+    system: &LinearSystem,
+    impulses: &mut [f64],
+    dqd: &mut [f64],
+) {
+    let h = system.h;
+    let bodies = model.bodies();
     // Forward: joint velocity changes and link motion changes.
     for (i, body) in bodies.iter().enumerate() {
         let (vo, d) = (body.v_offset, body.nv());
@@ -395,7 +434,6 @@ fn factor_and_solve(
             *slot = col.dot(&wrench) - h * tau[c];
         }
     }
-    Ok(true)
 }
 
 #[cfg(test)]

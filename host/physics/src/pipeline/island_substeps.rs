@@ -340,6 +340,56 @@ impl IslandSubsteps {
             self.rocking = 0.0;
             return 0.0;
         }
+        self.gather_columns(bodies, constraints, &up);
+        // The lean each column contact gives the top of its column, kept by the body it
+        // supports.
+        self.lean.clear();
+        self.lean.resize(n, 0.0);
+        self.rocking_ratio.clear();
+        self.rocking_ratio.resize(n, 0.0);
+        let mut most: f64 = 0.0;
+        for i in 0..n {
+            let (count, ci) = self.supports[i];
+            if count != 1 || !moving(i) {
+                continue;
+            }
+            let c = &constraints[ci as usize];
+            let col = self.column[i];
+            let hz = loads.stiffness.hertz_for(c.against_static, c.mass_ratio());
+            let omega = 2.0 * std::f64::consts::PI * hz;
+            let origin = bodies.pos[c.a];
+            let com = col.moment / col.mass;
+            let weight = col.mass * loads.gravity;
+            let at = up.dot(&(origin + c.anchor_a()));
+            let tilt = c.column_tilt(&origin, &com, weight, &up, omega);
+            if tilt > 0.0 {
+                self.lean[i] = tilt * (col.top - at).max(0.0);
+                most = most.max(self.lean[i]);
+            }
+            if !rocking {
+                continue;
+            }
+            let k = c.rocking_stiffness(&up, omega);
+            let arm = (up.dot(&com) - at).max(0.0);
+            self.rocking_ratio[i] = if k > 0.0 {
+                weight * arm / k
+            } else {
+                f64::INFINITY
+            };
+        }
+        self.rocking = if rocking {
+            self.rocking_sums()
+        } else {
+            f64::NAN
+        };
+        most
+    }
+
+    /// Each moving body's column, gathered from the tops down through the bodies that stand
+    /// alone on one another ([`Self::supports`] known), and the body each stands on alone.
+    fn gather_columns(&mut self, bodies: &BodySet, constraints: &[ContactConstraint], up: &V3) {
+        let n = bodies.len();
+        let moving = |i: usize| bodies.kind[i] == BodyKind::Dynamic && bodies.awake[i];
         // Each body's own column, and the body it stands on alone (`NONE`: none).
         self.column.clear();
         self.column.resize(n, Column::default());
@@ -389,48 +439,6 @@ impl IslandSubsteps {
                 self.order.push(below as u32);
             }
         }
-        // The lean each column contact gives the top of its column, kept by the body it
-        // supports.
-        self.lean.clear();
-        self.lean.resize(n, 0.0);
-        self.rocking_ratio.clear();
-        self.rocking_ratio.resize(n, 0.0);
-        let mut most: f64 = 0.0;
-        for i in 0..n {
-            let (count, ci) = self.supports[i];
-            if count != 1 || !moving(i) {
-                continue;
-            }
-            let c = &constraints[ci as usize];
-            let col = self.column[i];
-            let hz = loads.stiffness.hertz_for(c.against_static, c.mass_ratio());
-            let omega = 2.0 * std::f64::consts::PI * hz;
-            let origin = bodies.pos[c.a];
-            let com = col.moment / col.mass;
-            let weight = col.mass * loads.gravity;
-            let at = up.dot(&(origin + c.anchor_a()));
-            let tilt = c.column_tilt(&origin, &com, weight, &up, omega);
-            if tilt > 0.0 {
-                self.lean[i] = tilt * (col.top - at).max(0.0);
-                most = most.max(self.lean[i]);
-            }
-            if !rocking {
-                continue;
-            }
-            let k = c.rocking_stiffness(&up, omega);
-            let arm = (up.dot(&com) - at).max(0.0);
-            self.rocking_ratio[i] = if k > 0.0 {
-                weight * arm / k
-            } else {
-                f64::INFINITY
-            };
-        }
-        self.rocking = if rocking {
-            self.rocking_sums()
-        } else {
-            f64::NAN
-        };
-        most
     }
 
     /// Sums each column's rocking ratios from each body down to the body the column stands

@@ -400,47 +400,7 @@ impl ContactConstraint {
         } else {
             0.0
         };
-        // Centres of curvature of round parts off their body's centre of mass: A's contact
-        // point lies one radius along +n from its centre, B's along −n.
-        // Written in place: a local array copied in at the end stalled on its own stores
-        // (`perf annotate`: 13 % of this function on pyramid-1240).
-        // Only read where a side is round (`round_radius`), so left as they are otherwise:
-        // most contacts are between boxes, and the lines not written are not fetched.
-        let mut radius = [0.0; 2];
-        let round = |i: usize, part: u16, moving: bool| {
-            moving
-                && matches!(
-                    bodies.part_shape(i, part),
-                    Shape::Sphere { .. } | Shape::Capsule { .. }
-                )
-        };
-        let sides = [
-            (a, m.part_a, round(a, m.part_a, ima > 0.0)),
-            (b, m.part_b, round(b, m.part_b, imb > 0.0)),
-        ];
-        let centre = &mut self.centre;
-        if sides.iter().any(|s| s.2) {
-            for c in centre.iter_mut() {
-                *c = [V3::new(0.0, 0.0, 0.0); 2];
-            }
-        }
-        for (side, (i, part, round)) in sides.into_iter().enumerate() {
-            if !round {
-                continue;
-            }
-            let mut off = false;
-            for (c, cp) in centre.iter_mut().zip(m.points()) {
-                let point = bodies.rot[i].tr_mul(&(cp.point - bodies.pos[i]));
-                if let Some((r, x)) = round_centre(bodies, i, part, &point) {
-                    radius[side] = r;
-                    c[side] = x;
-                    off |= x.norm() > FOLLOW_MIN_OFFSET;
-                }
-            }
-            if !off {
-                radius[side] = 0.0;
-            }
-        }
+        let radius = self.prepare_round_centres(bodies, m, (ima > 0.0, imb > 0.0));
         self.a = a;
         self.b = b;
         self.manifold = mi;
@@ -477,6 +437,62 @@ impl ContactConstraint {
         self.impulse_substep = m.impulse_substep;
         self.round_radius = radius;
         self.follows = radius[0] > 0.0 || radius[1] > 0.0;
+    }
+
+    /// The centres of curvature of the manifold's round parts (a sphere's or a capsule's)
+    /// off their moving body's centre of mass, per point and side, and each side's radius
+    /// (0 where the side is not round, or its centre lies on the body's centre of mass);
+    /// `moving` says whether A and B move.
+    #[inline]
+    fn prepare_round_centres(
+        &mut self,
+        bodies: &BodySet,
+        m: &Manifold,
+        moving: (bool, bool),
+    ) -> [f64; 2] {
+        // Centres of curvature of round parts off their body's centre of mass: A's contact
+        // point lies one radius along +n from its centre, B's along −n.
+        // Written in place: a local array copied in at the end stalled on its own stores
+        // (`perf annotate`: 13 % of this function on pyramid-1240).
+        // Only read where a side is round (`round_radius`), so left as they are otherwise:
+        // most contacts are between boxes, and the lines not written are not fetched.
+        let mut radius = [0.0; 2];
+        let round = |i: usize, part: u16, moving: bool| {
+            moving
+                && matches!(
+                    bodies.part_shape(i, part),
+                    Shape::Sphere { .. } | Shape::Capsule { .. }
+                )
+        };
+        let (a, b) = (m.a as usize, m.b as usize);
+        let sides = [
+            (a, m.part_a, round(a, m.part_a, moving.0)),
+            (b, m.part_b, round(b, m.part_b, moving.1)),
+        ];
+        let centre = &mut self.centre;
+        if sides.iter().any(|s| s.2) {
+            for c in centre.iter_mut() {
+                *c = [V3::new(0.0, 0.0, 0.0); 2];
+            }
+        }
+        for (side, (i, part, round)) in sides.into_iter().enumerate() {
+            if !round {
+                continue;
+            }
+            let mut off = false;
+            for (c, cp) in centre.iter_mut().zip(m.points()) {
+                let point = bodies.rot[i].tr_mul(&(cp.point - bodies.pos[i]));
+                if let Some((r, x)) = round_centre(bodies, i, part, &point) {
+                    radius[side] = r;
+                    c[side] = x;
+                    off |= x.norm() > FOLLOW_MIN_OFFSET;
+                }
+            }
+            if !off {
+                radius[side] = 0.0;
+            }
+        }
+        radius
     }
 
     /// Point `k`'s angular Jacobians and normal row now. Unless the constraint

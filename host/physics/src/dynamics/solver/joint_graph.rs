@@ -120,34 +120,8 @@ impl JointGraph {
         self.joint_node.resize(joints.len(), NONE);
         self.body_node.clear();
         self.body_node.resize(nb, NONE);
-        // Joints at each body, counting sort by body.
-        self.incident_start.clear();
-        self.incident_start.resize(nb + 1, 0);
+        self.index_incident(joints, bodies);
         let active = |j: &FreeJoint| j.row_count() > 0;
-        for j in joints.iter().filter(|j| active(j)) {
-            let (a, b) = j.bodies();
-            for i in [a, b] {
-                if moving(bodies, i) {
-                    self.incident_start[i + 1] += 1;
-                }
-            }
-        }
-        for i in 0..nb {
-            self.incident_start[i + 1] += self.incident_start[i];
-        }
-        self.incident.clear();
-        self.incident.resize(self.incident_start[nb], 0);
-        self.fill.clear();
-        self.fill.extend_from_slice(&self.incident_start);
-        for (k, j) in joints.iter().enumerate().filter(|(_, j)| active(j)) {
-            let (a, b) = j.bodies();
-            for i in [a, b] {
-                if moving(bodies, i) {
-                    self.incident[self.fill[i]] = k;
-                    self.fill[i] += 1;
-                }
-            }
-        }
         // Breadth first from each unvisited joint, parents visited before children. A joint
         // to a body that does not move must be a root: as a leaf its pivot would be its zero
         // block. So the roots are those joints first, then any joint of what is left.
@@ -217,6 +191,47 @@ impl JointGraph {
                 }
             }
         }
+        self.order_for_elimination();
+        self.usable = true;
+    }
+
+    /// The joints at each moving body (`incident`, from `incident_start`): a counting sort
+    /// by body of the joints with rows.
+    fn index_incident(&mut self, joints: &[FreeJoint], bodies: &BodySet) {
+        let nb = bodies.len();
+        // Joints at each body, counting sort by body.
+        self.incident_start.clear();
+        self.incident_start.resize(nb + 1, 0);
+        let active = |j: &FreeJoint| j.row_count() > 0;
+        for j in joints.iter().filter(|j| active(j)) {
+            let (a, b) = j.bodies();
+            for i in [a, b] {
+                if moving(bodies, i) {
+                    self.incident_start[i + 1] += 1;
+                }
+            }
+        }
+        for i in 0..nb {
+            self.incident_start[i + 1] += self.incident_start[i];
+        }
+        self.incident.clear();
+        self.incident.resize(self.incident_start[nb], 0);
+        self.fill.clear();
+        self.fill.extend_from_slice(&self.incident_start);
+        for (k, j) in joints.iter().enumerate().filter(|(_, j)| active(j)) {
+            let (a, b) = j.bodies();
+            for i in [a, b] {
+                if moving(bodies, i) {
+                    self.incident[self.fill[i]] = k;
+                    self.fill[i] += 1;
+                }
+            }
+        }
+    }
+
+    /// The nodes renumbered in elimination order, the reverse of the breadth-first order,
+    /// with their parents and the joints' and bodies' nodes.
+    fn order_for_elimination(&mut self) {
         // Elimination order: the reverse of the breadth-first order.
         let n = self.nodes.len();
         self.fill.clear();
@@ -236,7 +251,6 @@ impl JointGraph {
                 *x = self.fill[*x];
             }
         }
-        self.usable = true;
     }
 
     fn push(&mut self, kind: NodeKind, parent: Option<usize>) -> usize {
