@@ -81,6 +81,18 @@ struct ContactGroup {
     patch: PatchLanes,
 }
 
+/// What a solve pass's normal rows read beside each point: the bodies' displacement along
+/// the normal and turns over the step so far, the substep rate and the pass.
+#[derive(Clone, Copy)]
+struct PointPass {
+    nd: Lanes,
+    dta: LaneV3,
+    dtb: LaneV3,
+    inv_h: Lanes,
+    max_push: f64,
+    pass: SolvePass,
+}
+
 /// The velocity state of the two bodies of every lane.
 struct BodyLanes {
     va: LaneV3,
@@ -230,9 +242,9 @@ impl ContactGroup {
         let f = &self.patch;
         let [l0, l1] = f.tangent_impulse;
         let tw = f.twist_impulse;
-        let mut total = Lanes::splat(0.0);
         let mut ia = f.t[0].ia.scale(l0) + f.t[1].ia.scale(l1) + f.twist.ia.scale(tw);
         let mut ib = f.t[0].ib.scale(l0) + f.t[1].ib.scale(l1) + f.twist.ib.scale(tw);
+        let mut total = Lanes::splat(0.0);
         for pl in &self.points[..self.point_count] {
             total = total + pl.normal_impulse;
             ia += pl.n.ia.scale(pl.normal_impulse);
@@ -253,42 +265,22 @@ impl ContactGroup {
         );
         let dta = gather(&bodies.dtheta, &self.a, self.lanes);
         let dtb = gather(&bodies.dtheta, &self.b, self.lanes);
-        let (zero, one) = (Lanes::splat(0.0), Lanes::splat(1.0));
-        let inv_h = Lanes::splat(inv_h);
-        // The points' order, taken once per pass rather than per point (measured: towers-1120
-        // 3–4 % and pyramid-1240 2 % faster, the same bits).
-        let mut order: [usize; MAX_MANIFOLD_POINTS] = std::array::from_fn(|i| i);
-        let order = &mut order[..self.point_count];
-        if pass.reverse {
-            order.reverse();
-        }
-        let mut total = zero;
-        for &k in order.iter() {
-            let pl = &mut self.points[k];
-            let sep = nd + (dtb.dot(&pl.jb) - dta.dot(&pl.ja)) + pl.separation;
-            let ahead = sep.gt(zero);
-            let (bias, ms, is) = if pass.use_bias {
-                let pushed = (self.bias_rate * (sep + Lanes::splat(LINEAR_SLOP)).min(zero))
-                    .max(Lanes::splat(-max_push));
-                (
-                    ahead.select(sep * inv_h, pushed),
-                    ahead.select(one, self.mass_scale),
-                    ahead.select(zero, self.impulse_scale),
-                )
-            } else {
-                (ahead.select(sep * inv_h, zero), one, zero)
-            };
-            let vn = n.dot(&(s.vb - s.va)) + (s.wb.dot(&pl.jb) - s.wa.dot(&pl.ja));
-            let imp = -(pl.n.mass * ms * (vn + bias)) - is * pl.normal_impulse;
-            let new = (pl.normal_impulse + imp).max(zero);
-            let delta = new - pl.normal_impulse;
-            pl.normal_impulse = new;
-            pl.max_normal_impulse = pl.max_normal_impulse.max_num(delta);
-            total = total + new;
-            let p = n.scale(delta);
-            let (ia, ib) = (pl.n.ia.scale(delta), pl.n.ib.scale(delta));
-            s.apply(self.ima, self.imb, &p, &ia, &ib);
-        }
+        let one = Lanes::splat(1.0);
+        let pp = PointPass {
+            nd,
+            dta,
+            dtb,
+            inv_h: Lanes::splat(inv_h),
+            max_push,
+            pass,
+        };
+        // A group of full manifolds, as most are, takes a loop of constant length, which
+        // compiles to straight-line code, as `gather` does for a full group.
+        let total = if self.point_count == MAX_MANIFOLD_POINTS {
+            self.solve_points::<MAX_MANIFOLD_POINTS>(&mut s, &pp)
+        } else {
+            self.solve_points_of(self.point_count, &mut s, &pp)
+        };
         let [t0, t1] = self.tangents;
         {
             let f = &mut self.patch;
@@ -329,6 +321,74 @@ impl ContactGroup {
             s.wb += f.twist.ib.scale(d);
         }
         self.store(bodies, &s);
+    }
+
+    /// The normal rows of the group's first `N` points, in the pass's order, applied to `s`;
+    /// the sum of their accumulated impulses.
+    #[inline(always)]
+    fn solve_points<const N: usize>(&mut self, s: &mut BodyLanes, pp: &PointPass) -> Lanes {
+        // The points' order, taken once per pass rather than per point (measured: towers-1120
+        // 3–4 % and pyramid-1240 2 % faster, the same bits).
+        let mut order: [usize; N] = std::array::from_fn(|i| i);
+        if pp.pass.reverse {
+            order.reverse();
+        }
+        self.solve_rows(&order, s, pp)
+    }
+
+    /// [`Self::solve_points`] for the first `count` points, `count` known at run time.
+    #[inline(always)]
+    fn solve_points_of(&mut self, count: usize, s: &mut BodyLanes, pp: &PointPass) -> Lanes {
+        let mut order: [usize; MAX_MANIFOLD_POINTS] = std::array::from_fn(|i| i);
+        let order = &mut order[..count];
+        if pp.pass.reverse {
+            order.reverse();
+        }
+        self.solve_rows(order, s, pp)
+    }
+
+    /// The normal rows of the points `order` names, in that order, applied to `s`; the sum
+    /// of their accumulated impulses.
+    #[inline(always)]
+    fn solve_rows(&mut self, order: &[usize], s: &mut BodyLanes, pp: &PointPass) -> Lanes {
+        let PointPass {
+            nd,
+            dta,
+            dtb,
+            inv_h,
+            max_push,
+            pass,
+        } = *pp;
+        let n = self.normal;
+        let (zero, one) = (Lanes::splat(0.0), Lanes::splat(1.0));
+        let mut total = zero;
+        for &k in order {
+            let pl = &mut self.points[k];
+            let sep = nd + (dtb.dot(&pl.jb) - dta.dot(&pl.ja)) + pl.separation;
+            let ahead = sep.gt(zero);
+            let (bias, ms, is) = if pass.use_bias {
+                let pushed = (self.bias_rate * (sep + Lanes::splat(LINEAR_SLOP)).min(zero))
+                    .max(Lanes::splat(-max_push));
+                (
+                    ahead.select(sep * inv_h, pushed),
+                    ahead.select(one, self.mass_scale),
+                    ahead.select(zero, self.impulse_scale),
+                )
+            } else {
+                (ahead.select(sep * inv_h, zero), one, zero)
+            };
+            let vn = n.dot(&(s.vb - s.va)) + (s.wb.dot(&pl.jb) - s.wa.dot(&pl.ja));
+            let imp = -(pl.n.mass * ms * (vn + bias)) - is * pl.normal_impulse;
+            let new = (pl.normal_impulse + imp).max(zero);
+            let delta = new - pl.normal_impulse;
+            pl.normal_impulse = new;
+            pl.max_normal_impulse = pl.max_normal_impulse.max_num(delta);
+            total = total + new;
+            let p = n.scale(delta);
+            let (ia, ib) = (pl.n.ia.scale(delta), pl.n.ib.scale(delta));
+            s.apply(self.ima, self.imb, &p, &ia, &ib);
+        }
+        total
     }
 
     /// Lane `l`'s accumulated impulses.
