@@ -583,3 +583,30 @@ mod api {
         }
     }
 }
+
+#[test]
+fn bodies_moved_onto_one_another_en_masse_stop_the_step_and_leave_the_world_as_it_was() {
+    use virtual_physics::dynamics::DynamicsError;
+    let mut w = virtual_physics::scene::builtin::towers(10, 10, 10)
+        .build()
+        .unwrap();
+    let handles: Vec<_> = w.body_handles().collect();
+    for &h in &handles {
+        if w.body(h).unwrap().kind() == virtual_physics::dynamics::BodyKind::Dynamic {
+            w.body_mut(h)
+                .unwrap()
+                .set_position(nalgebra::Vector3::new(0.0, 0.0, 0.5));
+        }
+    }
+    let before: Vec<_> = w.bodies().map(|b| b.position()).collect();
+    let t = w.time();
+    match w.step() {
+        Err(e @ DynamicsError::TooManyContactPairs { .. }) => {
+            assert!(e.to_string().contains("overlap en masse"), "{e}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let after: Vec<_> = w.bodies().map(|b| b.position()).collect();
+    assert_eq!(before, after);
+    assert_eq!(w.time(), t);
+}

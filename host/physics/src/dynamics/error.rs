@@ -55,6 +55,25 @@ pub enum DynamicsError {
         /// `q` or `qd`.
         quantity: &'static str,
     },
+    /// The broad phase found more pairs of overlapping bounding boxes than
+    /// [`MAX_CONTACT_PAIRS_PER_BODY`](crate::pipeline::MAX_CONTACT_PAIRS_PER_BODY) per body:
+    /// bodies overlap en masse (many placed at one point), and the contacts of the step would
+    /// grow as the square of their number. The world is as it was before the step.
+    #[error(
+        "{pairs} pairs of overlapping bounding boxes among {bodies} bodies, more than the \
+         limit of {limit} ({per_body} per body): bodies overlap en masse (many placed at one \
+         point?); the world is as it was before the step"
+    )]
+    TooManyContactPairs {
+        /// Pairs found (at least; the broad phase stops counting past the limit).
+        pairs: usize,
+        /// Bodies in the world, tree links' proxies included.
+        bodies: usize,
+        /// The limit.
+        limit: usize,
+        /// The limit per body.
+        per_body: usize,
+    },
     /// A world parameter the step cannot use (`dt`, gravity, a solver setting); nothing
     /// was stepped.
     #[error("{what} must be {expected}, got {value}")]

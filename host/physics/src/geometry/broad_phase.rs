@@ -44,6 +44,11 @@ pub struct BroadPhase {
     grown_responds: Vec<bool>,
     grown_excluded: Vec<u64>,
     grown_pairs: Vec<u64>,
+    /// The most pairs of grown boxes a grid build gathers before it stops ([`Self::overflowed`]);
+    /// the world sets it from its bodies (`MAX_CONTACT_PAIRS_PER_BODY`).
+    pub(crate) max_pairs: usize,
+    /// Whether the last grid build stopped at [`Self::max_pairs`]: `pairs` is then empty.
+    pub(crate) overflowed: bool,
 }
 
 /// The cell of coordinate `x`; saturating (`as` clamps to the `i64` range, NaN gives 0), so
@@ -126,6 +131,8 @@ impl BroadPhase {
             grown_responds: Vec::new(),
             grown_excluded: Vec::new(),
             grown_pairs: Vec::new(),
+            max_pairs: usize::MAX,
+            overflowed: false,
         }
     }
 
@@ -149,6 +156,11 @@ impl BroadPhase {
             self.grown_excluded.clear();
             self.grown_excluded.extend_from_slice(excluded);
             tests += self.build_grid(bodies);
+            if self.overflowed {
+                // Nothing kept: the next update builds the grid again.
+                self.grown.clear();
+                return tests;
+            }
         }
         // The pairs whose boxes overlap now, of those of the grown boxes.
         for &k in &self.grown_pairs {
@@ -182,6 +194,7 @@ impl BroadPhase {
     /// of bodies one of which responds to contacts, not excluded. Returns the number of box
     /// tests made.
     fn build_grid(&mut self, bodies: &CollisionBodies<'_>) -> usize {
+        self.overflowed = false;
         self.entries.clear();
         self.oversized.clear();
         self.grown_pairs.clear();
@@ -208,7 +221,7 @@ impl BroadPhase {
         let responds = |a: usize, b: usize| bodies.responds[a] || bodies.responds[b];
         let mut tests = 0;
         let mut s = 0;
-        while s < self.entries.len() {
+        'cells: while s < self.entries.len() {
             let k = self.entries[s].0;
             let mut e = s + 1;
             while e < self.entries.len() && self.entries[e].0 == k {
@@ -232,9 +245,16 @@ impl BroadPhase {
                         continue;
                     }
                     push_pair(&mut self.grown_pairs, a, b, &self.grown_excluded);
+                    if self.grown_pairs.len() > self.max_pairs {
+                        self.overflowed = true;
+                        break 'cells;
+                    }
                 }
             }
             s = e;
+        }
+        if self.overflowed {
+            return tests;
         }
         // Oversized bodies and half-spaces against everything.
         for oi in 0..self.oversized.len() {
@@ -250,6 +270,10 @@ impl BroadPhase {
                 tests += 1;
                 if boxes_meet(bodies, boxes, o, b) {
                     push_pair(&mut self.grown_pairs, o, b, &self.grown_excluded);
+                    if self.grown_pairs.len() > self.max_pairs {
+                        self.overflowed = true;
+                        return tests;
+                    }
                 }
             }
         }

@@ -52,6 +52,7 @@ pub(crate) use integrator::{FreeForces, FreeIntegrator};
 pub use settings::SolverSettings;
 #[cfg(feature = "variants")]
 pub use settings::SolverVariants;
+pub use step::MAX_CONTACT_PAIRS_PER_BODY;
 pub use world::{BodyMut, BodyRef, Contact, World};
 pub use world_builder::WorldBuilder;
 pub use world_joints::{

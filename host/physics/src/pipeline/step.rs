@@ -15,6 +15,16 @@ use crate::dynamics::solver::{
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
 use crate::geometry::{BodyMotion, BroadPhase, Manifold, NarrowPhase, V3};
 
+/// The most pairs of overlapping bounding boxes a world may hold per body (–). Equal spheres
+/// touch at most 12 others (the kissing number), and the boxes of a dense cubic pile of
+/// boxes, grown by the contact margins, overlap their 26 neighbours': 13 pairs per body. A
+/// large body among small ones touches many, but each of those few: a pile's pairs stay
+/// near 13 per body. Far past that, bodies overlap en masse (many placed at one point), and
+/// the step's contacts grow as the square of their number: the step refuses with
+/// [`DynamicsError::TooManyContactPairs`], the scene with `SceneError::TooMany`, instead of
+/// taking minutes and gigabytes.
+pub const MAX_CONTACT_PAIRS_PER_BODY: usize = 64;
+
 /// A step whose grouped contact constraints live in their lanes alone
 /// (`World::lean_step`): what it was prepared for.
 #[derive(Clone, Copy, Debug)]
@@ -75,7 +85,7 @@ impl World {
             return Ok(());
         }
         self.begin_step(h)?;
-        self.collide(h);
+        self.collide(h)?;
         let prepared = self.prepare_contacts()?;
         let joints_on = self.prepare_joints(h);
         let coupled = self.begin_solve();
@@ -112,9 +122,9 @@ impl World {
     /// distance, and by its sweep with continuous collision), the broad phase's pairs, the
     /// narrow phase's manifolds (fast balls keep only the contacts their swept path
     /// touches), and the resting contacts' held sink.
-    fn collide(&mut self, h: f64) {
+    fn collide(&mut self, h: f64) -> Result<(), DynamicsError> {
         let (Some(broad), Some(narrow)) = (self.broad.as_mut(), self.narrow.as_mut()) else {
-            return;
+            return Ok(());
         };
         let (eff, dt) = (self.effects, self.dt);
         let ccd = eff.has(Effect::ContinuousCollision);
@@ -135,11 +145,21 @@ impl World {
         if ccd {
             self.counters.mark(Stage::ContinuousCollision);
         }
+        let limit = MAX_CONTACT_PAIRS_PER_BODY.saturating_mul(b.len());
+        broad.max_pairs = limit;
         self.counters.broad_phase_tests = broad.update(
             &b.collision_view(),
             &self.excluded_pairs,
             self.variants.keep_broad_phase_pairs,
         );
+        if broad.overflowed {
+            return Err(DynamicsError::TooManyContactPairs {
+                pairs: limit + 1,
+                bodies: b.len(),
+                limit,
+                per_body: MAX_CONTACT_PAIRS_PER_BODY,
+            });
+        }
         self.counters.broad_phase_pairs = broad.pairs.len();
         let bodies = &*b;
         let motion = ccd.then_some(BodyMotion {
@@ -177,6 +197,30 @@ impl World {
             let solved = |m: &Manifold| solved_between_free_bodies(bodies, proxies, m);
             self.sink_hold
                 .update(&mut narrow.manifolds, solved, (bodies.len(), dt, spec), up);
+        }
+        Ok(())
+    }
+
+    /// Pairs of bodies whose bounding boxes (grown by the speculative distance) overlap as
+    /// the world stands, counted up to `limit` + 1 (the broad phase stops there); the world
+    /// is left as it is.
+    pub(crate) fn overlapping_pairs(&self, limit: usize) -> usize {
+        let b = &self.bodies;
+        let spec = self.settings.speculative_distance;
+        let aabb: Vec<_> = (0..b.len())
+            .map(|i| b.shape[i].aabb(&b.rot[i], &b.pos[i]).loosened(spec))
+            .collect();
+        let view = crate::geometry::CollisionBodies {
+            aabb: &aabb,
+            ..b.collision_view()
+        };
+        let mut broad = BroadPhase::new(&b.shape);
+        broad.max_pairs = limit;
+        broad.update(&view, &self.excluded_pairs, false);
+        if broad.overflowed {
+            limit + 1
+        } else {
+            broad.pairs.len()
         }
     }
 

@@ -251,6 +251,20 @@ impl SceneFile {
                 world.add_articulated(sys);
             }
         }
+        // Bodies overlapping en masse would make the first step's contacts grow as the square
+        // of their number: refused here, counted no further than the limit.
+        let limit = crate::pipeline::MAX_CONTACT_PAIRS_PER_BODY.saturating_mul(world.body_count());
+        if world.has_broad_phase() {
+            let pairs = world.overlapping_pairs(limit);
+            if pairs > limit {
+                return Err(SceneError::TooMany {
+                    path: "bodies and tree links".into(),
+                    what: "pairs of overlapping bounding boxes at the start (bodies placed on one another)",
+                    at_least: pairs,
+                    limit,
+                });
+            }
+        }
         Ok(world)
     }
 }
