@@ -13,11 +13,10 @@ use anyhow::{anyhow, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use serde::Serialize;
-use virtual_physics::dynamics::BodyKind;
-use virtual_physics::pipeline::{BodyHandle, World};
+use virtual_physics::pipeline::World;
 
 use crate::figure::Figure;
-use crate::rapier_peer::{max_drift, missing, rapier_run, RapierSettings};
+use crate::rapier_peer::{max_drift, missing, rapier_run, DynamicBodies, RapierSettings};
 use crate::run::{load, stats, time_steps};
 
 /// The stacking scenes compared by default (`peers front`, `peers rapier`, `accuracy --peers`).
@@ -56,17 +55,8 @@ fn ours(scene: &str, substeps: usize, steps: Option<u64>) -> Result<(f64, f64)> 
     let n = steps.or(s.steps).unwrap_or(600);
     let mut w = s.build()?;
     w.settings_mut().substeps = substeps;
-    let dynamic: Vec<BodyHandle> = w
-        .bodies()
-        .filter(|b| b.kind() == BodyKind::Dynamic)
-        .map(|b| b.handle())
-        .collect();
-    let snap = |w: &World| -> Vec<[f64; 3]> {
-        dynamic
-            .iter()
-            .filter_map(|&h| w.body(h).map(|b| b.position().into()))
-            .collect()
-    };
+    let dynamic = DynamicBodies::of(&w);
+    let snap = |w: &World| dynamic.positions(w);
     let start = snap(&w);
     let ms = stats(&time_steps(&mut w, n, false)?).0;
     Ok((ms, max_drift(&start, &snap(&w))))

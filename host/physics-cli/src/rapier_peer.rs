@@ -16,7 +16,7 @@ use anyhow::Result;
 
 use crate::run::{load, stats, time_steps_counting_points};
 use virtual_physics::dynamics::BodyKind;
-use virtual_physics::pipeline::BodyHandle;
+use virtual_physics::pipeline::{BodyHandle, World};
 
 /// One row of the comparison.
 #[derive(serde::Serialize)]
@@ -54,6 +54,29 @@ pub(crate) enum RapierSettings {
     Matched { substeps: usize, hertz: f64 },
     /// The defaults with `num_solver_iterations` set (Rapier's accuracy knob).
     Iterations(usize),
+}
+
+/// The dynamic bodies of a world, whose positions the drift is measured on.
+pub(crate) struct DynamicBodies(Vec<BodyHandle>);
+
+impl DynamicBodies {
+    /// The dynamic bodies of `w` as it stands.
+    pub(crate) fn of(w: &World) -> Self {
+        Self(
+            w.bodies()
+                .filter(|b| b.kind() == BodyKind::Dynamic)
+                .map(|b| b.handle())
+                .collect(),
+        )
+    }
+
+    /// Their positions in `w` (m, world).
+    pub(crate) fn positions(&self, w: &World) -> Vec<[f64; 3]> {
+        self.0
+            .iter()
+            .filter_map(|&h| w.body(h).map(|b| b.position().into()))
+            .collect()
+    }
 }
 
 /// Largest displacement of a dynamic body from its start (m).
@@ -241,17 +264,8 @@ pub fn run(scenes: &[String], steps: Option<u64>, json: bool) -> Result<()> {
             let s = load(name, Some(sleeping))?;
             let n = steps.or(s.steps).unwrap_or(600);
             let mut w = s.build()?;
-            let dynamic: Vec<BodyHandle> = w
-                .bodies()
-                .filter(|b| b.kind() == BodyKind::Dynamic)
-                .map(|b| b.handle())
-                .collect();
-            let snap = |w: &virtual_physics::pipeline::World| -> Vec<[f64; 3]> {
-                dynamic
-                    .iter()
-                    .filter_map(|&h| w.body(h).map(|b| b.position().into()))
-                    .collect()
-            };
+            let dynamic = DynamicBodies::of(&w);
+            let snap = |w: &World| dynamic.positions(w);
             let start = snap(&w);
             let (t, _, taken) = time_steps_counting_points(&mut w, n, !json)?;
             let ours = stats(&t).0;

@@ -9,10 +9,9 @@
 
 use anyhow::Result;
 
-use crate::rapier_peer::{max_drift, missing, rapier_measure, RapierSettings};
+use crate::rapier_peer::{max_drift, missing, rapier_measure, DynamicBodies, RapierSettings};
 use crate::run::{load, stats};
-use virtual_physics::dynamics::BodyKind;
-use virtual_physics::pipeline::{BodyHandle, World};
+use virtual_physics::pipeline::World;
 
 /// The suite's scenes: built-in names, and files under `host/physics/scenes/suite/`.
 pub const SUITE: [&str; 9] = [
@@ -70,17 +69,8 @@ struct OurRun {
 /// Steps `w` for `n` steps: the median step, the mean contact points and substeps per step,
 /// the deepest overlap after any step (read outside the timing) and the largest drift.
 fn our_run(mut w: World, n: u64) -> Result<OurRun> {
-    let dynamic: Vec<BodyHandle> = w
-        .bodies()
-        .filter(|b| b.kind() == BodyKind::Dynamic)
-        .map(|b| b.handle())
-        .collect();
-    let snap = |w: &World| -> Vec<[f64; 3]> {
-        dynamic
-            .iter()
-            .filter_map(|&h| w.body(h).map(|b| b.position().into()))
-            .collect()
-    };
+    let dynamic = DynamicBodies::of(&w);
+    let snap = |w: &World| dynamic.positions(w);
     let start = snap(&w);
     let mut t = Vec::with_capacity(n as usize);
     let (mut points, mut substeps, mut deepest) = (0.0, 0.0, 0.0f64);
