@@ -103,7 +103,6 @@ pub(crate) struct RapierRun {
 
 /// Steps scene `s` in rapier3d for `steps` steps: median ms per step and the largest drift of
 /// a dynamic body (m).
-#[cfg(feature = "rapier-peer")]
 pub(crate) fn rapier_run(
     s: &virtual_physics::scene::SceneFile,
     sleeping: bool,
@@ -229,16 +228,6 @@ pub(crate) fn rapier_measure(
     _: u64,
     _: RapierSettings,
 ) -> Result<RapierRun> {
-    Err(missing())
-}
-
-#[cfg(not(feature = "rapier-peer"))]
-pub(crate) fn rapier_run(
-    _: &virtual_physics::scene::SceneFile,
-    _: bool,
-    _: u64,
-    _: RapierSettings,
-) -> Result<(f64, f64)> {
     Err(missing())
 }
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Writes the scenes in motion of the benchmark suite (`vphys peers rapier --suite`).
 
-Run from anywhere: `python3 host/physics/scenes/suite/generate.py`. The scenes are
+Run from anywhere: `python3 host/physics/scenes/suite/generate.py`
+(`--trees-at-one-point PATH` writes the uncommitted scene of the bad-input figure instead). The scenes are
 deterministic (a fixed seed each): running it again writes the same files. Every body is
 unrotated (the rapier peer's translation takes unrotated boxes and spheres), the ground is
 the half-space z >= 0, the step is 1/60 s and the solver takes its defaults.
@@ -9,6 +10,7 @@ the half-space z >= 0, the step is 1/60 s and the solver takes its defaults.
 import json
 import os
 import random
+import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 EFFECTS = ["gravity", "contacts", "friction"]
@@ -132,7 +134,25 @@ SCENES = {
 }
 
 
+def trees_at_one_point(path, copies=1000):
+    """Writes `copies` copies of `chain-on-boxes.json`'s tree, all at one point, to `path`:
+    the scene the engine refuses before its first step (bodies overlapping en masse). Not
+    committed: 2.5 MB of JSON."""
+    with open(os.path.join(HERE, "..", "chain-on-boxes.json")) as f:
+        s = json.load(f)
+    s["articulated"] = [s["articulated"][0]] * copies
+    with open(path + ".tmp", "w") as f:
+        json.dump(s, f, separators=(",", ":"))
+    os.replace(path + ".tmp", path)
+    print(f"wrote {path} ({copies} trees at one point)")
+
+
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == "--trees-at-one-point":
+        trees_at_one_point(sys.argv[2])
+        return
+    if len(sys.argv) != 1:
+        sys.exit("usage: generate.py [--trees-at-one-point PATH]")
     for name, s in SCENES.items():
         path = os.path.join(HERE, name + ".json")
         with open(path + ".tmp", "w") as f:
