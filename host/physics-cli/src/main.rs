@@ -29,6 +29,7 @@ mod effects;
 mod exit;
 mod figure;
 mod front;
+mod hard;
 mod multibody_peer;
 mod parry_peer;
 mod peers;
@@ -174,6 +175,20 @@ enum Cmd {
         #[arg(long, conflicts_with_all = ["quick", "step_cost"])]
         peers: bool,
     },
+    /// The hard cases at the defaults (heavy on light, a fast ball in a closed box, an arm on
+    /// stairs, a Newton's cradle, dominoes): a table of each figure, its bound, whether it
+    /// holds and ms per step; exits 1 when a case fails.
+    Hard {
+        /// Also the variants of the same kinds (other sizes, masses and speeds).
+        #[arg(long)]
+        variants: bool,
+        /// Only this case (repeatable; the table's cases and the variants).
+        #[arg(long = "case", value_name = "NAME")]
+        case: Vec<String>,
+        /// One JSON object per case instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Comparisons with other engines (Pinocchio).
     Peers {
         #[command(subcommand)]
@@ -219,6 +234,11 @@ fn dispatch(cli: Cli) -> Result<()> {
     match cli.cmd {
         Cmd::Table3 { json, no_time } => table3::run(json, !no_time),
         Cmd::Peers { cmd } => peers::run(cmd),
+        Cmd::Hard {
+            variants,
+            case,
+            json,
+        } => hard::run(variants, &case, json),
         Cmd::Effects { json, steps } => effects::run(json, steps),
         Cmd::Accuracy {
             quick,

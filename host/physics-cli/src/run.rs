@@ -13,7 +13,16 @@ use crate::bodies;
 /// The most steps `run` and `bench` take (`bench` keeps one sample per step).
 pub const MAX_STEPS: u64 = 10_000_000;
 
-/// A scene file path, or a built-in name. A file of that name wins over a built-in; an
+/// The hard case of this name (`vphys hard --variants` lists them).
+fn hard_case(name: &str) -> Option<virtual_physics::measure::hard::HardCase> {
+    use virtual_physics::measure::hard;
+    hard::cases()
+        .into_iter()
+        .chain(hard::variants())
+        .find(|c| c.name == name)
+}
+
+/// A scene file path, a built-in name, or a hard case's name. A file of that name wins over a built-in; an
 /// argument that names no built-in scene and looks like a path (has a `/` or ends in `.json`)
 /// is reported as a missing file.
 pub fn load(scene: &str, sleeping: Option<bool>) -> Result<SceneFile> {
@@ -22,6 +31,8 @@ pub fn load(scene: &str, sleeping: Option<bool>) -> Result<SceneFile> {
         SceneFile::from_path(scene)?
     } else if builtin::NAMES.contains(&scene) {
         builtin::by_name(scene)?
+    } else if let Some(case) = hard_case(scene) {
+        case.scene
     } else if scene.contains('/')
         || scene.contains(std::path::MAIN_SEPARATOR)
         || path
@@ -31,7 +42,7 @@ pub fn load(scene: &str, sleeping: Option<bool>) -> Result<SceneFile> {
         bail!("scene file '{scene}' does not exist");
     } else {
         bail!(
-            "'{scene}' is neither a scene file nor a built-in scene (built-in: {})",
+            "'{scene}' is neither a scene file nor a built-in scene (built-in: {}; and the hard cases of `vphys hard --variants`)",
             builtin::NAMES.join(", ")
         );
     };

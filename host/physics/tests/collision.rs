@@ -305,3 +305,49 @@ fn cylinders_against_boxes_capsules_and_cylinders_by_probing() {
         );
     }
 }
+
+/// A box thinner than the contact margin, lying flat on a plane: the four corners of its
+/// bottom face, never one of its top face (those would hold it up at one corner and rock it).
+#[test]
+fn a_box_thinner_than_the_margin_touches_a_plane_with_its_bottom_face() {
+    let plane = Shape::HalfSpace { normal: V3::z() };
+    let domino = Shape::Cuboid {
+        half: V3::new(0.024, 0.012, 0.0045),
+    };
+    let i = Matrix3::identity();
+    let mut m = Manifold::new(0, 1);
+    let pos = V3::new(0.0, 0.0, 0.0045);
+    collide(&plane, &i, &V3::zeros(), &domino, &i, &pos, 0.02, &mut m).expect("supported pair");
+    assert_eq!(m.len, 4);
+    for p in m.points() {
+        assert!(p.separation.abs() < 1e-12, "a top corner: {p:?}");
+    }
+}
+
+/// A capsule lying across the top edge of a tall box: the contact holds the segment's point
+/// deepest in the box, where neither end nor the point nearest the box's centre is.
+#[test]
+fn a_capsule_across_a_box_edge_touches_at_the_edge() {
+    let step = cube(0.5);
+    let cap = Shape::Capsule {
+        radius: 0.03,
+        half_height: 0.4,
+    };
+    // The capsule's axis along x (a quarter turn about y), descending 0.3 rad to +x, passes
+    // 1 cm above the box's top edge at x = 0.5, z = 0.5: above the top face to the left of
+    // the edge, beside the side face to its right. Neither end nor the point nearest the
+    // box's centre touches.
+    let r = exp_so3(&V3::new(0.0, std::f64::consts::FRAC_PI_2 + 0.3, 0.0));
+    let up = V3::new(0.3f64.sin(), 0.0, 0.3f64.cos());
+    let centre = V3::new(0.5, 0.0, 0.5) + up * 0.01;
+    let mut m = Manifold::new(0, 1);
+    let i = Matrix3::identity();
+    collide(&step, &i, &V3::zeros(), &cap, &r, &centre, 0.0, &mut m).expect("supported pair");
+    let deepest = m
+        .points()
+        .iter()
+        .map(|p| p.separation)
+        .fold(f64::INFINITY, f64::min);
+    // The edge lies 1 cm from the axis on the capsule's side: 2 cm inside its surface.
+    assert!((deepest + 0.02).abs() < 1e-6, "deepest {deepest}");
+}

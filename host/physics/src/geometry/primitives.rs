@@ -128,7 +128,7 @@ fn plane_points(n: &V3, o: f64, pts: &[V3], radius: f64, margin: f64, out: &mut 
     out.len > 0
 }
 
-/// Half-space (A) – box (B): the 8 corners.
+/// Half-space (A) – box (B): the corners of the face turned towards the plane.
 pub fn plane_box(
     n: &V3,
     o: f64,
@@ -138,16 +138,26 @@ pub fn plane_box(
     margin: f64,
     out: &mut Manifold,
 ) -> bool {
-    let mut c = [V3::zeros(); 8];
-    for (k, ck) in c.iter_mut().enumerate() {
+    // The incident face: the one whose outward normal points most against the plane's. Its
+    // four corners hold the deepest one; a corner of the opposite face is never a contact,
+    // even where the box is thinner than the margin (a domino lying flat).
+    let nl = r.tr_mul(n);
+    let axis = nl.iamax();
+    let face = if nl[axis] > 0.0 { -1.0 } else { 1.0 };
+    let mut c = [V3::zeros(); 4];
+    let mut m = 0;
+    for k in 0..8 {
         let s = V3::new(
             if k & 1 == 0 { -1.0 } else { 1.0 },
             if k & 2 == 0 { -1.0 } else { 1.0 },
             if k & 4 == 0 { -1.0 } else { 1.0 },
         );
-        *ck = p + r * half.component_mul(&s);
+        if s[axis] == face {
+            c[m] = p + r * half.component_mul(&s);
+            m += 1;
+        }
     }
-    plane_points(n, o, &c, 0.0, margin, out)
+    plane_points(n, o, &c[..m], 0.0, margin, out)
 }
 
 /// Half-space (A) – sphere (B).
@@ -286,8 +296,39 @@ pub fn capsule_capsule(
     sphere_sphere(&qa, rad_a, &qb, rad_b, margin, out)
 }
 
+/// The point of segment `s0 s1` deepest in box `(r, p, half)`: the least signed distance
+/// along the segment (m, negative inside), found by golden-section search. The signed
+/// distance to a convex body is convex along a line, so the search converges to the
+/// segment's deepest point, within `0.618^GOLDEN_STEPS` of the segment's length.
+fn segment_deepest_in_box(r: &M3, p: &V3, half: &V3, s0: &V3, s1: &V3) -> (V3, f64) {
+    const GOLDEN_STEPS: usize = 48;
+    let inv_phi = 0.5 * (5f64.sqrt() - 1.0);
+    let at = |t: f64| s0 + (s1 - s0) * t;
+    let f = |t: f64| box_closest(r, p, half, &at(t)).2;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let (mut x1, mut x2) = (hi - inv_phi * (hi - lo), lo + inv_phi * (hi - lo));
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..GOLDEN_STEPS {
+        if f1 <= f2 {
+            hi = x2;
+            (x2, f2) = (x1, f1);
+            x1 = hi - inv_phi * (hi - lo);
+            f1 = f(x1);
+        } else {
+            lo = x1;
+            (x1, f1) = (x2, f2);
+            x2 = lo + inv_phi * (hi - lo);
+            f2 = f(x2);
+        }
+    }
+    let t = 0.5 * (lo + hi);
+    (at(t), f(t))
+}
+
 /// Box (A) – capsule (B): each segment end and the segment point nearest the box centre,
-/// as spheres against the box; the deepest point's normal is the manifold's.
+/// as spheres against the box, and the segment's deepest point where it lies deeper than
+/// those three (a capsule across an edge of the box); the deepest point's normal is the
+/// manifold's.
 #[allow(clippy::too_many_arguments)]
 pub fn box_capsule(
     r: &M3,
@@ -304,9 +345,15 @@ pub fn box_capsule(
     let e = rc.column(2) * hh;
     let (s0, s1) = (pc - e, pc + e);
     let mid = segment_closest(&s0, &s1, p);
+    let closest = [s0, s1, mid].map(|x| box_closest(r, p, half, &x));
+    let nearest = closest.iter().fold(f64::INFINITY, |m, c| m.min(c.2));
+    let (deep, dist) = segment_deepest_in_box(r, p, half, &s0, &s1);
+    // A fourth point only where the segment lies deeper than the three by more than
+    // round-off: where one of them is the deepest, the manifold stays theirs.
+    let across =
+        (dist < nearest - 1e-9 * (1.0 + nearest.abs())).then(|| box_closest(r, p, half, &deep));
     let mut best = f64::INFINITY;
-    for x in [s0, s1, mid] {
-        let (q, n, dist) = box_closest(r, p, half, &x);
+    for (q, n, dist) in closest.into_iter().chain(across) {
         let s = dist - radius;
         if s <= margin {
             if s < best {

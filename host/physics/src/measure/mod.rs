@@ -7,6 +7,7 @@
 
 pub mod accuracy;
 mod counting;
+pub mod hard;
 pub mod matrix_form;
 pub mod table3;
 

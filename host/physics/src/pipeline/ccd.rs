@@ -18,6 +18,15 @@
 //!    friction), and the next leg runs for the rest of the step, up to [`MAX_IMPACTS`]
 //!    legs (past that every contact of the ball is kept).
 //!
+//! A ball whose path meets two or more shapes within the step, every one of them fixed,
+//! ends the step where its path ends ([`BallPath`], applied after the solve): the solve
+//! takes a ball to its first impact and bounces it there, and a ball that should bounce
+//! again within the same step would lose the rest of the step at the wall. So does a ball
+//! whose one impact is on a fixed shape without friction (the path is then exact); an
+//! impact with friction is left to the solve, which spins the ball. Along the path
+//! each impact reflects the normal velocity with the restitution (no friction) against a
+//! fixed shape, so the path's speed never exceeds its start's: the ball cannot gain energy.
+//!
 //! A manifold that no leg touches is dropped (no false stop). Every target that the ball's
 //! straight path over the step touches after the start (the first impact, and any other on
 //! that line — two boxes sharing a post's edge are hit at once) gets its manifold rewritten
@@ -43,7 +52,7 @@ use crate::geometry::{sphere_cast, Impact, Manifold, Material, Shape, M3, V3};
 pub(crate) const FAST_FRACTION: f64 = 0.01;
 
 /// Most impacts followed along one ball's path within a step.
-pub(crate) const MAX_IMPACTS: usize = 8;
+pub(crate) const MAX_IMPACTS: usize = 32;
 
 /// Round-off allowance on the swept radius (m).
 pub(crate) const SWEEP_TOLERANCE_M: f64 = 1e-9;
@@ -59,6 +68,18 @@ pub(crate) struct SweepSettings {
     pub gravity: V3,
     /// Restitution threshold (m/s), or `None` without the restitution effect.
     pub restitution_threshold: Option<f64>,
+}
+
+/// Where a fast ball's path, followed through two or more impacts on fixed shapes, ends
+/// the step.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BallPath {
+    /// The ball (body index).
+    pub ball: usize,
+    /// Centre at the end of the step (m, world).
+    pub pos: V3,
+    /// Velocity at the end of the step (m/s, world).
+    pub vel: V3,
 }
 
 /// One shape (a part of a compound) a ball has a manifold with, posed at the start of the
@@ -81,13 +102,16 @@ struct Target {
 }
 
 /// Drops the manifolds of fast spheres that their swept path does not touch and rewrites
-/// those their straight path touches as the contact planes of the impacts. Returns the numbers of manifolds and
+/// those their straight path touches as the contact planes of the impacts; writes to `paths`
+/// the balls that end the step along their path. Returns the numbers of manifolds and
 /// contact points dropped.
 pub(crate) fn filter_manifolds(
     manifolds: &mut Vec<Manifold>,
     bodies: &BodySet,
     settings: &SweepSettings,
+    paths: &mut Vec<BallPath>,
 ) -> (usize, usize) {
+    paths.clear();
     let dt = settings.dt;
     let fast = |i: usize| {
         bodies.kind[i] == BodyKind::Dynamic
@@ -119,7 +143,18 @@ pub(crate) fn filter_manifolds(
             };
             targets.push(target(bodies, mi, other, part as usize, ball, settings));
         }
-        follow(bodies, ball, &mut targets, settings, &mut impacts);
+        let end = follow(bodies, ball, &mut targets, settings, &mut impacts);
+        let only_fixed = targets
+            .iter()
+            .all(|t| !t.touched || bodies.kind[t.body] == BodyKind::Fixed);
+        let ball_material = bodies.material[ball];
+        let frictionless = impacts
+            .iter()
+            .all(|&(k, _)| ball_material.pair_friction(&targets[k].material) == 0.0);
+        let path_is_better = impacts.len() >= 2 || (impacts.len() == 1 && frictionless);
+        if let (Some((pos, vel)), true, true) = (end, path_is_better, only_fixed) {
+            paths.push(BallPath { ball, pos, vel });
+        }
         for t in &targets {
             let other_fast = is_ball(t.body);
             if !seen[t.manifold] {
@@ -190,17 +225,22 @@ fn target(
 
 /// Follows `ball` over the step, impact by impact, marking the targets it touches; writes
 /// the impacts in the order they happen to `impacts` (target index, time into the step in
-/// s).
+/// s). Returns where the path ends the step, its centre and velocity (the step's
+/// acceleration added as a straight leg would), or `None` past [`MAX_IMPACTS`].
 fn follow(
     bodies: &BodySet,
     ball: usize,
     targets: &mut [Target],
     s: &SweepSettings,
     impacts: &mut Vec<(usize, f64)>,
-) {
+) -> Option<(V3, V3)> {
     impacts.clear();
     let Shape::Sphere { radius } = bodies.shape[ball] else {
-        return;
+        return None;
+    };
+    let accel = s.gravity + bodies.force[ball] * bodies.inv_mass[ball];
+    let end = |c: V3, v: V3, left: f64| {
+        Some((c + v * left + accel * (0.5 * s.dt * s.dt), v + accel * s.dt))
     };
     let (mut c, mut v) = (bodies.pos[ball], bodies.vel[ball]);
     let (mut elapsed, mut left) = (0.0, s.dt);
@@ -209,7 +249,7 @@ fn follow(
         if leg == MAX_IMPACTS {
             // Too many impacts to follow: keep every contact of the ball.
             targets.iter_mut().for_each(|t| t.touched = true);
-            return;
+            return None;
         }
         let mut best: Option<(usize, Impact)> = None;
         for (k, t) in targets.iter_mut().enumerate() {
@@ -243,7 +283,7 @@ fn follow(
             }
         }
         let Some((k, hit)) = best else {
-            return;
+            return end(c, v, left);
         };
         let t = &targets[k];
         // Reflect the relative velocity at the impact.
@@ -260,9 +300,10 @@ fn follow(
         left -= left * hit.t;
         last = Some(k);
         if left <= 0.0 {
-            return;
+            return end(c, v, 0.0);
         }
     }
+    None
 }
 
 /// Rewrites `m` as the contact plane of the impact `hit` of `ball`'s straight path on `t`:

@@ -101,6 +101,8 @@ pub struct StepCounters {
     pub contact_groups: usize,
     /// Contact points that received a restitution impulse check.
     pub restitution_constraints: usize,
+    /// Two-body impacts passed along touching contacts before the solve.
+    pub touching_impacts: usize,
     /// ABA calls.
     pub articulated_solves: usize,
     /// Bodies simulated (awake dynamic).

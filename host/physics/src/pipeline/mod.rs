@@ -32,6 +32,7 @@ mod world_state;
 mod world_trees;
 // The step's stages beside the world (each an `impl World` block or its own state).
 mod ccd;
+mod impacts;
 pub(crate) mod island_substeps;
 mod link_proxies;
 mod resting_substeps;

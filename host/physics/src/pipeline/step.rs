@@ -6,7 +6,7 @@
 use super::drives::DriveGroup;
 use super::tree_contacts::Proxy;
 use super::world::World;
-use super::{ccd, link_proxies};
+use super::{ccd, impacts, link_proxies};
 use super::{Effect, FreeForces, IntegratorKind, Stage};
 use crate::dynamics::solver::{
     ContactConstraint, ContactSettings, ContactStiffness, FreeJoint, JointSoftness, Softness,
@@ -86,6 +86,7 @@ impl World {
         }
         self.begin_step(h)?;
         self.collide(h)?;
+        self.touching_impacts();
         let prepared = self.prepare_contacts()?;
         let joints_on = self.prepare_joints(h);
         let coupled = self.begin_solve();
@@ -93,6 +94,7 @@ impl World {
         self.solve_substeps(&plan)?;
         self.fine_island_substeps(&plan);
         self.restitution_and_store(plan.h);
+        self.end_ball_paths();
         self.step_articulated(plan.h)?;
         self.sync_link_proxies(false);
         self.update_islands();
@@ -182,7 +184,8 @@ impl World {
                     .has(Effect::Restitution)
                     .then_some(self.settings.restitution_threshold),
             };
-            let (m, p) = ccd::filter_manifolds(&mut narrow.manifolds, bodies, &sweep);
+            let paths = &mut self.ball_paths;
+            let (m, p) = ccd::filter_manifolds(&mut narrow.manifolds, bodies, &sweep, paths);
             nc.manifolds -= m;
             nc.contacts -= p;
         }
@@ -222,6 +225,34 @@ impl World {
         } else {
             broad.pairs.len()
         }
+    }
+
+    /// The fast balls whose path meets several fixed shapes within the step end it where
+    /// their path ends (`ccd.rs`).
+    fn end_ball_paths(&mut self) {
+        for p in self.ball_paths.drain(..) {
+            self.bodies.pos[p.ball] = p.pos;
+            self.bodies.vel[p.ball] = p.vel;
+        }
+    }
+
+    /// With restitution, the touching contacts' impacts passed along pair by pair before the
+    /// solve (`impacts.rs`).
+    fn touching_impacts(&mut self) {
+        if !self.effects.has(Effect::Restitution) {
+            return;
+        }
+        let Some(narrow) = self.narrow.as_ref() else {
+            return;
+        };
+        let proxies = &self.proxies;
+        let free = |i: usize| proxies.get(i).is_none_or(Option::is_none);
+        self.counters.touching_impacts = impacts::propagate(
+            &narrow.manifolds,
+            &mut self.bodies,
+            self.settings.restitution_threshold,
+            free,
+        );
     }
 
     /// The contacts' preparation: each manifold between free bodies, one of them awake,

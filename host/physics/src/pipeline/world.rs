@@ -62,6 +62,8 @@ pub struct World {
     pub(crate) resting_substeps: RestingSubsteps,
     /// The resting contacts' sink held back (`sink_hold.rs`).
     pub(crate) sink_hold: SinkHold,
+    /// Fast balls that end this step along their followed path (continuous collision).
+    pub(crate) ball_paths: Vec<super::ccd::BallPath>,
     /// Substeps of those islands per substep of the step (1: none this step).
     pub(crate) fine_factor: usize,
     /// The soft contacts' stiffness of the last step, which each constraint takes as it is
@@ -140,6 +142,7 @@ impl World {
             island_substeps: IslandSubsteps::default(),
             resting_substeps: RestingSubsteps::default(),
             sink_hold: SinkHold::default(),
+            ball_paths: Vec::new(),
             fine_factor: 1,
             last_stiffness: None,
             scratch_constraint: ContactConstraint::blank(),

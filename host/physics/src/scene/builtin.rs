@@ -40,7 +40,7 @@ pub fn by_name(name: &str) -> Result<SceneFile, SceneError> {
     })
 }
 
-fn empty(name: &str, effects: Vec<Effect>) -> SceneFile {
+pub(super) fn empty(name: &str, effects: Vec<Effect>) -> SceneFile {
     SceneFile {
         name: name.to_string(),
         dt: 1.0 / 60.0,

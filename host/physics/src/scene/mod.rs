@@ -10,6 +10,7 @@ mod build;
 pub mod builtin;
 mod error;
 mod format;
+pub mod hard;
 mod validate;
 
 pub use error::{Problem, SceneError};

@@ -20,6 +20,7 @@ pub mod lanes;
 pub mod softness;
 
 pub use contact_batch::ContactBatches;
+pub(crate) use contact_constraint::LINEAR_SLOP;
 pub use contact_constraint::{ContactConstraint, ContactSettings, SolvePass};
 pub use joint_constraint::{FreeJoint, MAX_DRIVEN_DOFS};
 pub use joint_dofs::{DofLimits, DofMotor};
