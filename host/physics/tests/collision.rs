@@ -205,6 +205,7 @@ fn grid_broad_phase_equals_brute_force() {
         aabb: &aabb,
         awake: &awake,
         responds: &awake,
+        travel: &[],
     };
     let mut bp = BroadPhase::new(&shape);
     bp.update(&bodies, &[], true);
@@ -278,7 +279,10 @@ fn cylinders_against_boxes_capsules_and_cylinders_by_probing() {
             half_height: 1.0,
         };
         s.bodies.push(rod);
-        let mut b = unit_cube([x, 0.0, 0.8]);
+        // Set down 1 cm above the rod: the probes balance a body on a round rod only near
+        // the top (they agree with the deepest one within ~25°); one that lands off the top,
+        // dropped from higher, rocks off.
+        let mut b = unit_cube([x, 0.0, 0.66]);
         b.shape = shape;
         b.mass = Some(0.2);
         b.rotation = [std::f64::consts::FRAC_PI_2, 0.0, 0.0];

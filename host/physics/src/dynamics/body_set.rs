@@ -151,6 +151,7 @@ impl BodySet {
             aabb: &self.aabb,
             awake: &self.awake,
             responds: &self.responds,
+            travel: &[],
         }
     }
 

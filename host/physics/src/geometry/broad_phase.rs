@@ -382,6 +382,7 @@ mod tests {
             aabb: &aabbs,
             awake: &awake,
             responds: &responds,
+            travel: &[],
         };
         let excluded = [(3u64 << 32) | 4];
         let mut grid = BroadPhase::new(&shape);
@@ -429,6 +430,7 @@ mod tests {
                 aabb: aabbs,
                 awake: &awake,
                 responds: &responds,
+                travel: &[],
             };
             let before = grid.grown.clone();
             grid.update(&bodies, &[], true);

@@ -19,12 +19,21 @@ pub struct CollisionBodies<'a> {
     /// Whether contacts move the body (dynamic bodies and tree links); pairs of two bodies
     /// that contacts do not move are never reported.
     pub responds: &'a [bool],
+    /// How far beyond the speculative distance each body's contacts are kept (m): its travel
+    /// over the step where that is more than half the speculative distance (a fast body,
+    /// without continuous collision), else 0. Empty: 0 for every body.
+    pub travel: &'a [f64],
 }
 
 impl CollisionBodies<'_> {
     /// Number of bodies.
     pub fn len(&self) -> usize {
         self.shape.len()
+    }
+
+    /// [`Self::travel`] of body `i` (m).
+    pub fn travel(&self, i: usize) -> f64 {
+        self.travel.get(i).copied().unwrap_or(0.0)
     }
 
     /// Whether there are none.

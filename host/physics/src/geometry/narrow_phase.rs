@@ -347,7 +347,7 @@ fn for_each_part(bodies: &CollisionBodies<'_>, i: usize, mut f: impl FnMut(Posed
 
 impl NarrowPhase {
     /// Recomputes the manifolds of `pairs` (sorted keys). Contacts up to the speculative
-    /// distance `speculative` (m) are kept; with `motion` (continuous collision) a pair's
+    /// distance `speculative` (m), grown by each side's [`CollisionBodies::travel`], are kept; with `motion` (continuous collision) a pair's
     /// distance grows by how far each side can move over the step: for each part of a
     /// compound, by its own motion (a rod's bar spinning in its wall slot moves by the bar's
     /// radius times the turn, not by its men's reach).
@@ -422,7 +422,13 @@ impl NarrowPhase {
                 pos: bodies.pos[i],
             };
             let (pa, pb) = (posed(a), posed(b));
-            let reach = manifold_refresh::reach(&bodies.shape[a], &bodies.shape[b], speculative);
+            // A fast body's contacts reach as far as it travels in the step, and are collided
+            // afresh every step (never refreshed from last step's points).
+            let travel = bodies.travel(a) + bodies.travel(b);
+            let margin = speculative + travel;
+            let reach = (travel == 0.0)
+                .then(|| manifold_refresh::reach(&bodies.shape[a], &bodies.shape[b], speculative))
+                .flatten();
             let origin = match reach {
                 Some(reach) if has_old && !asleep => {
                     manifold_refresh::within_reach(&self.manifolds[oi], &pa, &pb, reach)
@@ -452,7 +458,7 @@ impl NarrowPhase {
             let contact = if asleep {
                 None
             } else {
-                Self::contact(bodies, a, &pa, b, &pb, speculative, old, counts)
+                Self::contact(bodies, a, &pa, b, &pb, margin, old, counts)
             };
             if let Some(mut m) = contact {
                 if reach.is_some() {
@@ -523,8 +529,8 @@ impl NarrowPhase {
                     rot: bodies.rot[b],
                     pos: bodies.pos[b],
                 };
-                let reach = motion
-                    .is_none()
+                let travel = bodies.travel(a) + bodies.travel(b);
+                let reach = (motion.is_none() && travel == 0.0)
                     .then(|| {
                         manifold_refresh::reach(&bodies.shape[a], &bodies.shape[b], speculative)
                     })
@@ -542,6 +548,7 @@ impl NarrowPhase {
                     }
                 }
                 let margin = speculative
+                    + travel
                     + sweep(a, &bodies.pos[a], bodies.shape[a].bounding_radius())
                     + sweep(b, &bodies.pos[b], bodies.shape[b].bounding_radius());
                 if let Some(mut m) = Self::contact(bodies, a, &pa, b, &pb, margin, old, counts) {
@@ -566,13 +573,15 @@ impl NarrowPhase {
                 self.posed.parts_of(bodies, b, &sweep),
             );
             let parts = &self.posed.parts;
+            let (travel_a, travel_b) = (bodies.travel(a), bodies.travel(b));
             for posed_a in &parts[ra] {
-                if !posed_a.aabb.loosened(posed_a.sweep).overlaps(&body_b) {
+                let grown = posed_a.sweep + travel_a;
+                if !posed_a.aabb.loosened(grown).overlaps(&body_b) {
                     continue;
                 }
                 let pa = posed_a.posed(&bodies.shape[a]);
                 for posed_b in &parts[rb.clone()] {
-                    let margin = speculative + posed_a.sweep + posed_b.sweep;
+                    let margin = speculative + grown + posed_b.sweep + travel_b;
                     if !posed_a.meets(posed_b, margin) {
                         continue;
                     }
@@ -737,6 +746,7 @@ mod tests {
                 aabb: &self.aabb,
                 awake: &self.awake,
                 responds: &self.responds,
+                travel: &[],
             }
         }
     }

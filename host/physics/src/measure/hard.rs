@@ -9,6 +9,7 @@
 //! | arm on stairs | deepest overlap over the run (2 mm) |
 //! | Newton's cradle | the last sphere's shortfall from the struck speed (10 %); the fastest other sphere (10 % of the struck speed) |
 //! | dominoes | deepest corner below the ground at the end (5 mm); dominoes never tipped (none) |
+//! | stacks of 1:1000 masses | deepest overlap over the run (5 mm); farthest any cube moves (1 cm) |
 //!
 //! The exact path of the ball: with no gravity and no friction each axis of the ball's
 //! centre moves on its own between the walls at `±(inner/2 − r)`, its velocity reversed and
@@ -45,6 +46,8 @@ enum Check {
     Cradle { speed: f64 },
     /// Dominoes of these half extents (m).
     Dominoes { half: [f64; 3] },
+    /// A stack at rest.
+    Stack,
 }
 
 /// One measured figure and its bound: the case holds where every figure is at most its bound.
@@ -178,6 +181,21 @@ pub fn variants() -> Vec<HardCase> {
             Check::Cradle { speed: 0.8 },
         ),
         dominoes_case("dominoes-small", 30, [0.0045, 0.012, 0.024], 0.03, 600),
+        case(
+            "stack-1000-on-1",
+            scenes::mass_ratio_stack(&[1.0, 1000.0]),
+            Check::Stack,
+        ),
+        case(
+            "stack-1-between-1000",
+            scenes::mass_ratio_stack(&[1000.0, 1.0, 1000.0]),
+            Check::Stack,
+        ),
+        case(
+            "stack-alternating-1000",
+            scenes::mass_ratio_stack(&[1.0, 1000.0, 1.0, 1000.0, 1.0, 1000.0]),
+            Check::Stack,
+        ),
     ]
 }
 
@@ -204,6 +222,7 @@ pub fn run(case: &HardCase) -> Result<Outcome, HardCaseError> {
         Check::Arm => vec![deepest_overlap(&mut w, steps, 0.002)?],
         Check::Cradle { speed } => cradle(&mut w, steps, speed)?,
         Check::Dominoes { half } => dominoes(&mut w, steps, half)?,
+        Check::Stack => stack(&mut w, steps)?,
     };
     Ok(Outcome {
         name: case.name.clone(),
@@ -377,6 +396,24 @@ fn dominoes(w: &mut World, steps: u64, half: [f64; 3]) -> Result<Vec<Figure>, Ha
             value: standing as f64,
             bound: 0.0,
             unit: "",
+        },
+    ])
+}
+
+fn stack(w: &mut World, steps: u64) -> Result<Vec<Figure>, HardCaseError> {
+    let start: Vec<(usize, V3)> = dynamic(w).map(|i| (i, w.bodies.pos[i])).collect();
+    let overlap = deepest_overlap(w, steps, 0.005)?;
+    let moved = start
+        .iter()
+        .map(|(i, p)| (w.bodies.pos[*i] - p).norm())
+        .fold(0.0, f64::max);
+    Ok(vec![
+        overlap,
+        Figure {
+            what: "farthest any cube moves",
+            value: moved,
+            bound: 0.01,
+            unit: "m",
         },
     ])
 }

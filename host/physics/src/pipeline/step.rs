@@ -13,7 +13,7 @@ use crate::dynamics::solver::{
     SolvePass,
 };
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
-use crate::geometry::{BodyMotion, BroadPhase, Manifold, NarrowPhase, V3};
+use crate::geometry::{BodyMotion, BroadPhase, CollisionBodies, Manifold, NarrowPhase, V3};
 
 /// The most pairs of overlapping bounding boxes a world may hold per body (–). Equal spheres
 /// touch at most 12 others (the kissing number), and the boxes of a dense cubic pile of
@@ -132,6 +132,11 @@ impl World {
         let ccd = eff.has(Effect::ContinuousCollision);
         let spec = self.settings.speculative_distance;
         let b = &mut self.bodies;
+        // Without continuous collision, a body whose centre travels more than half the
+        // speculative distance in the step keeps its contacts as far as it travels: a heavy
+        // body falling onto a pile meets it at the substep it arrives, not a step late.
+        let travel = &mut self.travel;
+        travel.clear();
         for i in 0..b.len() {
             let moving = b.awake[i] || b.kind[i] == BodyKind::Kinematic;
             if !moving && b.kind[i] == BodyKind::Dynamic {
@@ -140,6 +145,14 @@ impl World {
             let mut margin = spec;
             if ccd && moving {
                 margin += dt * b.sweep_speed(i);
+            } else if moving {
+                // The centre's travel: a body spinning in place (a top) keeps its contacts.
+                let centre = dt * b.vel[i].norm();
+                if centre > 0.5 * spec {
+                    travel.resize(b.len(), 0.0);
+                    travel[i] = centre;
+                    margin += centre;
+                }
             }
             b.aabb[i] = b.shape[i].aabb(&b.rot[i], &b.pos[i]).loosened(margin);
         }
@@ -169,7 +182,11 @@ impl World {
             vel: &bodies.vel,
             omega: &bodies.omega,
         });
-        let mut nc = narrow.update(&bodies.collision_view(), &broad.pairs, spec, motion);
+        let view = CollisionBodies {
+            travel: &self.travel,
+            ..bodies.collision_view()
+        };
+        let mut nc = narrow.update(&view, &broad.pairs, spec, motion);
         if ccd {
             // Fast balls keep only the contacts their swept path touches.
             let sweep = ccd::SweepSettings {
@@ -213,7 +230,7 @@ impl World {
         let aabb: Vec<_> = (0..b.len())
             .map(|i| b.shape[i].aabb(&b.rot[i], &b.pos[i]).loosened(spec))
             .collect();
-        let view = crate::geometry::CollisionBodies {
+        let view = CollisionBodies {
             aabb: &aabb,
             ..b.collision_view()
         };
@@ -822,6 +839,11 @@ impl World {
             rolling: eff.has(Effect::RollingResistance),
             restitution_threshold: self.settings.restitution_threshold,
             max_push_velocity: self.settings.max_push_velocity,
+            up: if eff.has(Effect::Gravity) {
+                -self.gravity.try_normalize(0.0).unwrap_or_else(V3::zeros)
+            } else {
+                V3::zeros()
+            },
         }
     }
 

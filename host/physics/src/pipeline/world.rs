@@ -64,6 +64,9 @@ pub struct World {
     pub(crate) sink_hold: SinkHold,
     /// Fast balls that end this step along their followed path (continuous collision).
     pub(crate) ball_paths: Vec<super::ccd::BallPath>,
+    /// Each fast body's travel over this step beyond which its contacts are not kept (m;
+    /// `CollisionBodies::travel`), empty when no body is fast or with continuous collision.
+    pub(crate) travel: Vec<f64>,
     /// Substeps of those islands per substep of the step (1: none this step).
     pub(crate) fine_factor: usize,
     /// The soft contacts' stiffness of the last step, which each constraint takes as it is
@@ -143,6 +146,7 @@ impl World {
             resting_substeps: RestingSubsteps::default(),
             sink_hold: SinkHold::default(),
             ball_paths: Vec::new(),
+            travel: Vec::new(),
             fine_factor: 1,
             last_stiffness: None,
             scratch_constraint: ContactConstraint::blank(),

@@ -287,3 +287,18 @@ pub fn dominoes(n: usize, half: [f64; 3], spacing: f64, steps: u64) -> SceneFile
     }
     s
 }
+
+/// Unit cubes of `masses` (kg, bottom first) stacked exactly touching on the ground; 10 s at
+/// 1/60 s.
+pub fn mass_ratio_stack(masses: &[f64]) -> SceneFile {
+    let list: Vec<String> = masses.iter().map(|m| format!("{m}")).collect();
+    let mut s = empty(
+        &format!("unit cubes of {} kg stacked, bottom first", list.join(", ")),
+        vec![Effect::Gravity, Effect::Contacts, Effect::Friction],
+    );
+    s.bodies.push(ground(None));
+    for (k, &m) in masses.iter().enumerate() {
+        s.bodies.push(cube(0.5, m, [0.0, 0.0, 0.5 + k as f64]));
+    }
+    s
+}
