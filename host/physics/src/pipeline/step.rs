@@ -145,16 +145,20 @@ impl World {
             let mut margin = spec;
             if ccd && moving {
                 margin += dt * b.sweep_speed(i);
-            } else if moving {
-                // The centre's travel: a body spinning in place (a top) keeps its contacts.
-                let centre = dt * b.vel[i].norm();
-                if centre > 0.5 * spec {
+            }
+            let mut aabb = b.shape[i].aabb(&b.rot[i], &b.pos[i]).loosened(margin);
+            if !ccd && moving {
+                // The centre's travel (a body spinning in place, a top, keeps its contacts);
+                // the box swept along it, not grown all round.
+                let d = b.vel[i] * dt;
+                if d.norm() > 0.5 * spec {
                     travel.resize(b.len(), 0.0);
-                    travel[i] = centre;
-                    margin += centre;
+                    travel[i] = d.norm();
+                    aabb.min += d.inf(&V3::zeros());
+                    aabb.max += d.sup(&V3::zeros());
                 }
             }
-            b.aabb[i] = b.shape[i].aabb(&b.rot[i], &b.pos[i]).loosened(margin);
+            b.aabb[i] = aabb;
         }
         self.counters.mark(Stage::BroadPhase);
         if ccd {
