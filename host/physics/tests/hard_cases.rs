@@ -15,37 +15,20 @@
 use nalgebra::Matrix3;
 use virtual_physics::algebra::{exp_so3, log_so3, se3, Vec3, SE3};
 use virtual_physics::dynamics::{aba, BodyKind, Workspace};
-use virtual_physics::geometry::{Shape, V3};
+use virtual_physics::geometry::V3;
 use virtual_physics::measure::accuracy::articulated::chain_model;
 use virtual_physics::measure::accuracy::free_body;
-use virtual_physics::model::description::ModelDescription;
-use virtual_physics::pipeline::articulated::ArticulatedSystem;
-use virtual_physics::pipeline::{BodyBuilder, BodyHandle, Effect, Effects, IntegratorKind, World};
+use virtual_physics::pipeline::{BodyHandle, Effect, IntegratorKind, World};
 use virtual_physics::scene::builtin::{ball, ground, towers, unit_cube};
 use virtual_physics::scene::{BodyKindDesc, MaterialDesc, SceneFile, ShapeDesc};
 use virtual_physics::Real;
 
+mod hard_worlds;
 mod run_length;
 mod scene_order;
+use hard_worlds::*;
 use run_length::{full, length};
 use scene_order::*;
-
-fn finite(v: &V3) -> bool {
-    v.iter().all(|x| x.is_finite())
-}
-
-/// Panics on a NaN or infinite pose or velocity of any body.
-fn assert_finite(w: &World, case: &str) {
-    for i in 0..w.body_count() {
-        assert!(
-            finite(&body_at(w, i).position())
-                && finite(&body_at(w, i).linear_velocity())
-                && finite(&body_at(w, i).angular_velocity()),
-            "{case}: body {i} is not finite at t = {}",
-            w.time()
-        );
-    }
-}
 
 /// (largest horizontal move, largest sink) of the dynamic bodies from `start` (m).
 fn displacement(w: &World, start: &[V3]) -> (f64, f64) {
@@ -131,27 +114,6 @@ fn case02_extreme_mass_ratio_stacks_hold() {
     }
 }
 
-/// The accuracy report's tumbling box spinning at 200 rad/s about its intermediate axis, in a
-/// world at the defaults a user gets (the game's 1/60 s step, 12 substeps: `hω` = 0.28 rad
-/// per substep), gyroscopic term on, no gravity; `kind` replaces the default integrator.
-fn fast_spinning_box(kind: Option<IntegratorKind>) -> World {
-    let mut b = World::builder(Effects::of(&[Effect::Gyroscopic]))
-        .dt(1.0 / 60.0)
-        .gravity(V3::zeros());
-    if let Some(kind) = kind {
-        b = b.integrator(kind);
-    }
-    let mut w = b.build();
-    w.insert_body(
-        BodyBuilder::dynamic(Shape::Cuboid {
-            half: V3::from(free_body::HALF_EXTENTS),
-        })
-        .mass(free_body::MASS)
-        .angular_velocity(V3::new(0.0, 200.0, 2.0)),
-    );
-    w
-}
-
 /// Case 3: the 0.1 × 0.2 × 0.4 m box spinning at 200 rad/s about its intermediate axis, at
 /// the defaults (no integrator set: semi-implicit Euler with Catto's implicit gyroscopic
 /// term), 2 s (full length: 10 s). Pass: no NaN, and neither the energy nor the
@@ -188,110 +150,6 @@ fn case03_fast_spin_about_the_intermediate_axis() {
     );
 }
 
-/// Case 3 with the other integrators, for the record of what each does with the same box.
-/// Pass: the energy-momentum integrator holds energy and world angular momentum to 1e-6 and
-/// flips; RKMK4 holds them to 2e-2 (measured over 2 s: energy 9e-5, momentum 1.2e-3; over
-/// 10 s momentum 5.5e-3) and flips; no NaN with either. The explicit gyroscopic term
-/// (explicit and semi-implicit Euler, the default before the implicit term) is unstable here
-/// — energy ×2.6 within 0.25 s, then overflow — and the test checks that too.
-#[test]
-fn case03_fast_spin_with_the_other_integrators() {
-    for kind in IntegratorKind::ALL {
-        if kind == IntegratorKind::default() {
-            continue;
-        }
-        let mut w = fast_spinning_box(Some(kind));
-        let (e0, l0) = (w.energy(), w.angular_momentum());
-        let explicit_gyro = matches!(
-            kind,
-            IntegratorKind::ExplicitEuler | IntegratorKind::SymplecticEuler
-        );
-        let mut flipped = false;
-        for _ in 0..length(120, 600) {
-            w.step().unwrap();
-            flipped |= free_body::body_omega(&w).y < 0.0;
-            if explicit_gyro && w.time() > 0.5 {
-                break;
-            }
-        }
-        let (e, l) = (w.energy(), w.angular_momentum());
-        let de = (e - e0) / e0;
-        let dl = (l - l0).norm() / l0.norm();
-        if explicit_gyro {
-            assert!(
-                de.is_nan() || de >= 1.0,
-                "{kind}: expected the explicit gyroscopic term to blow up, energy change {de:e}"
-            );
-        } else {
-            assert_finite(&w, "case 3");
-            let tol = if kind == IntegratorKind::Rkmk4 {
-                2e-2
-            } else {
-                1e-6
-            };
-            assert!(de.abs() < tol, "{kind}: energy drift {de:e}");
-            assert!(dl < tol, "{kind}: momentum drift {dl:e}");
-            assert!(flipped, "{kind}: the intermediate axis must flip");
-        }
-    }
-}
-
-/// A world holding one articulated system (gravity on) with `substeps` per 1/60 s step.
-fn articulated_world(model: &ModelDescription, q: Vec<f64>, kind: IntegratorKind) -> World {
-    let tree = model.build::<f64>().unwrap();
-    let nv = tree.nv();
-    let mut w = World::builder(Effects::of(&[Effect::Gravity, Effect::Articulated]))
-        .dt(1.0 / 60.0)
-        .gravity(V3::new(0.0, 0.0, -9.81))
-        .integrator(kind)
-        .build();
-    w.insert_tree(ArticulatedSystem::new(tree, q, vec![0.0; nv]));
-    w
-}
-
-/// Relative energy change of an articulated run, scaled by `Σ m g ℓ`.
-fn articulated_run(w: &mut World, steps: usize, scale: f64) -> f64 {
-    let e0 = w.energy();
-    for _ in 0..steps {
-        w.step().unwrap();
-    }
-    let a = tree_at(w, 0);
-    assert!(
-        a.q().iter().chain(a.qd()).all(|x| x.is_finite()),
-        "articulated state not finite"
-    );
-    (w.energy() - e0) / scale
-}
-
-/// f32 and f64 ABA agree on `model` at `q`, `qd` (relative 1e-3 of the f64 norm).
-fn aba_f32_matches_f64(model: &ModelDescription, q: &[f64], qd: &[f64]) {
-    let t64 = model.build::<f64>().unwrap();
-    let t32 = model.build::<f32>().unwrap();
-    let nv = t64.nv();
-    let (mut a64, mut a32) = (vec![0.0f64; nv], vec![0.0f32; nv]);
-    let tau = vec![0.0; nv];
-    aba(&t64, &mut Workspace::new(&t64), q, qd, &tau, None, &mut a64).unwrap();
-    let c = |v: &[f64]| v.iter().map(|x| *x as f32).collect::<Vec<f32>>();
-    aba(
-        &t32,
-        &mut Workspace::new(&t32),
-        &c(q),
-        &c(qd),
-        &c(&tau),
-        None,
-        &mut a32,
-    )
-    .unwrap();
-    let norm = a64.iter().map(|x| x * x).sum::<f64>().sqrt().max(1.0);
-    for (x, y) in a64.iter().zip(&a32) {
-        assert!(x.is_finite() && y.is_finite());
-        assert!(
-            (x - *y as f64).abs() < 1e-3 * norm,
-            "f32 {y} vs f64 {x} (norm {norm})"
-        );
-    }
-}
-
 /// Case 4: a 200-link chain (links 5 cm, 1 kg) released 1 rad from hanging swings for 2 s
 /// (reduced: 0.5 s) at 1/60 s with the world's defaults (integrator and 12 substeps): no NaN,
 /// energy within 2 % of `Σ m g ℓ` — the battery's bound for a first-order step (the default
@@ -315,42 +173,22 @@ fn case04_chain_of_200_links_swings() {
 
 /// Case 5: a chain whose neighbours differ in mass by 1 : 10⁴, articulated (reduced
 /// coordinates, so the joints cannot open): a 10-link revolute chain alternating 1 kg and
-/// 0.1 g, stepped with RKMK4 and semi-implicit Euler, and the 12-body mass-ratio tree of
-/// part 1 (revolute, prismatic, ball joints) with RKMK4: no NaN, energy bounded (RKMK4 1e-6
-/// of `Σ m g ℓ`, semi-implicit 5 %); f32 ABA = f64 ABA. (The same chain built from free
+/// 0.1 g, at the world's defaults: no NaN, energy within 2 % of `Σ m g ℓ` (the battery's
+/// bound for a first-order step, as case 4); f32 ABA = f64 ABA. (RKMK4 holds it to 1e-6 and
+/// semi-implicit Euler to 5 %: `tests/integrators.rs`. The 12-body mass-ratio tree of part 1,
+/// revolute, prismatic and ball joints, does not hold at the defaults yet: its energy drifts
+/// by a third of `Σ m g ℓ` in 0.5 s and the step meets a singular articulated inertia within
+/// 10 s; RKMK4 holds it to 1e-3, `tests/integrators.rs`.) (The same chain built from free
 /// bodies and soft solver joints does not hold: its joints open wider as the mass ratio
 /// grows — see the crate README, "Remains".)
 #[test]
 fn case05_mass_ratio_one_to_ten_thousand() {
-    let mut chain = chain_model(10, 0.2);
-    for (k, b) in chain.bodies.iter_mut().enumerate() {
-        if k % 2 == 1 {
-            b.inertia.mass *= 1e-4;
-            for x in b.inertia.inertia_com.iter_mut() {
-                *x *= 1e-4;
-            }
-        }
-    }
-    let mut q = vec![0.0; 10];
-    q[0] = 0.8;
-    let scale = 5.0 * 9.81 * 0.2 * 10.0;
-    for kind in [IntegratorKind::SymplecticEuler, IntegratorKind::Rkmk4] {
-        let mut w = articulated_world(&chain, q.clone(), kind);
-        let de = articulated_run(&mut w, length(30, 600), scale);
-        let tol = if kind == IntegratorKind::Rkmk4 {
-            1e-6
-        } else {
-            5e-2
-        };
-        assert!(de.abs() < tol, "{kind} chain: energy drift {de:e}");
-        let a = tree_at(&w, 0);
-        aba_f32_matches_f64(&chain, a.q(), a.qd());
-    }
-    let tree = virtual_physics::model::builders::mass_ratio();
-    let nq = tree.build::<f64>().unwrap().nq();
-    let mut w = articulated_world(&tree, vec![0.1; nq], IntegratorKind::Rkmk4);
-    let de = articulated_run(&mut w, length(30, 600), 1e3);
-    assert!(de.abs() < 1e-3, "mass-ratio tree: energy drift {de:e}");
+    let (chain, q, scale) = one_to_ten_thousand_chain();
+    let mut w = articulated_world(&chain, q, IntegratorKind::default());
+    let de = articulated_run(&mut w, length(30, 600), scale);
+    assert!(de.abs() < 2e-2, "chain: energy drift {de:e}");
+    let a = tree_at(&w, 0);
+    aba_f32_matches_f64(&chain, a.q(), a.qd());
 }
 
 /// The ball at `speed` towards a 5 mm part at x = 0.3 m (fixed wall or kinematic paddle with
