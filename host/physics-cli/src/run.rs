@@ -187,8 +187,8 @@ pub fn stats(t: &[f64]) -> (f64, f64, f64) {
     (med, mean, s.last().copied().unwrap_or(0.0))
 }
 
-/// Solver settings of `vphys bench` that replace the scene's (the substep sweep in the
-/// README is made with them).
+/// Solver settings of `vphys bench` that replace the scene's (the substep sweep in
+/// `docs/physics/scenes-contacts-stacking.md` is made with them).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct SolverOverrides {
     /// Substeps per step.

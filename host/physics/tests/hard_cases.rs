@@ -180,7 +180,7 @@ fn case04_chain_of_200_links_swings() {
 /// by a third of `Σ m g ℓ` in 0.5 s and the step meets a singular articulated inertia within
 /// 10 s; RKMK4 holds it to 1e-3, `tests/integrators.rs`.) (The same chain built from free
 /// bodies and soft solver joints does not hold: its joints open wider as the mass ratio
-/// grows — see the crate README, "Remains".)
+/// grows — see `docs/physics/scenes-contacts-stacking.md`, "Remains".)
 #[test]
 fn case05_mass_ratio_one_to_ten_thousand() {
     let (chain, q, scale) = one_to_ten_thousand_chain();

@@ -643,7 +643,7 @@ impl ArticulatedSystem {
 
     /// The velocity stage of semi-implicit Euler inside the contact solve: `q̇ += h q̈`
     /// (explicit velocity products; the linearly implicit update of the free-standing trees
-    /// did not hold a whipping chain under a shaken root here either — README, "Long chains").
+    /// did not hold a whipping chain under a shaken root here either — `docs/physics/compounds-trees-drives.md`, "Long chains").
     pub(crate) fn velocity_stage(&mut self, h: f64) -> Result<(), DynamicsError> {
         let (q, qd) = (std::mem::take(&mut self.q), std::mem::take(&mut self.qd));
         let r = self.forward_dynamics(&q, &qd);

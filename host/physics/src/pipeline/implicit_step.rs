@@ -159,7 +159,7 @@ pub(crate) fn implicit_velocity_update(
         if level == Implicitness::Full && !prescribed.is_empty() {
             // Under prescribed motion the position Jacobian fails without a pivot falling
             // below the floor (a 100-link chain under a shaken root: a singular operator at
-            // 1.7 s; `M + h D` holds it for 10 s — README, "Long chains").
+            // 1.7 s; `M + h D` holds it for 10 s — `docs/physics/compounds-trees-drives.md`, "Long chains").
             continue;
         }
         let (hv, hq) = match level {

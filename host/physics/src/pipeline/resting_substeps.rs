@@ -55,8 +55,8 @@ pub const RESTING_TIME: f64 = TIME_TO_SLEEP;
 /// are at their cap of a quarter (Box2D v3's rule); at half the rate a column's ground contact
 /// keeps it wobbling: a 5-box tower on 6 substeps, its top box turning at 0.02–0.03 rad/s,
 /// moved 2.7 mm sideways in 20 s, 1.3 mm with the cap at a third of the rate, and 0.02 mm at
-/// 0.3 (0.04–0.05 mm on 2 and 4 substeps; measured with a build switch not kept, see the
-/// crate README; hard case 12 checks the 5-box tower at rest). The step's own 12 substeps at
+/// 0.3 (0.04–0.05 mm on 2 and 4 substeps; measured with a build switch not kept, see
+/// `docs/physics/integrators-accuracy-hard-cases.md`; hard case 12 checks the 5-box tower at rest). The step's own 12 substeps at
 /// 1/60 s keep their 240 Hz, a third of their rate.
 pub const RESTING_STATIC_CAP: f64 = 0.3;
 

@@ -43,7 +43,7 @@ pub struct SolverSettings {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolverVariants {
     /// Largest contact stiffness as a fraction of the substep rate (–); Box2D v3's quarter.
-    /// Stiffer contacts sink less but make stacks lean (README, settings sweep).
+    /// Stiffer contacts sink less but make stacks lean (`docs/physics/scenes-contacts-stacking.md`, settings sweep).
     pub contact_hertz_cap: f64,
     /// Stiffness of a contact between two moving bodies of equal mass, as a multiple of
     /// `contact_hertz` (–), within the same cap; it falls to `contact_hertz` at a mass ratio of

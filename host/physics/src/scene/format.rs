@@ -27,7 +27,7 @@ pub struct SceneFile {
     #[serde(default)]
     pub name: String,
     /// Step (s).
-    /// Range 1e-6 … 0.1 s (`scene::limits`; the crate README gives the reasons).
+    /// Range 1e-6 … 0.1 s (`scene::limits`; `docs/physics/scenes-contacts-stacking.md` gives the reasons).
     #[serde(default = "default_dt")]
     pub dt: f64,
     /// Default number of steps for `vphys run`.

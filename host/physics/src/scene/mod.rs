@@ -1,7 +1,7 @@
 //! Scenes as data: a JSON file format (serde), its validation (every problem reported with
 //! its location, never a panic), the built-in scenes, and building a [`World`] from a scene.
 //!
-//! See the crate README for the format with an example. Frames: `z` up by convention
+//! See `docs/physics/scenes-contacts-stacking.md` for the format with an example. Frames: `z` up by convention
 //! (gravity defaults to `[0, 0, -9.81]`), positions of body centres (= centres of mass) in
 //! world coordinates (m), `rotation` a rotation vector (axis × angle, rad), velocities in world
 //! coordinates (m/s, rad/s).

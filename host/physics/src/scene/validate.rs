@@ -2,7 +2,7 @@
 //! keep a scene's numbers physical and its memory bounded.
 //!
 //! Every number is checked to be finite and inside the range of [`limits`] (the scene format
-//! section of the crate README explains each range). Counts are checked twice: on the JSON
+//! section of `docs/physics/scenes-contacts-stacking.md` explains each range). Counts are checked twice: on the JSON
 //! text, before serde builds any list ([`check_counts`], [`read_bounded`]), and on the
 //! parsed scene, for scenes built in code.
 
@@ -17,7 +17,7 @@ use crate::pipeline::Effect;
 
 /// The ranges a scene's numbers must lie in (SI units), and the most entries of each list.
 ///
-/// The reasons are in the scene format section of the crate README; in short, each range
+/// The reasons are in the scene format section of `docs/physics/scenes-contacts-stacking.md`; in short, each range
 /// holds every physical scene with a wide margin, and keeps the products the step computes
 /// (`v·dt`, `ω²·I`, `m·g`) far from overflow and the sizes far above rounding.
 pub mod limits {

@@ -43,7 +43,7 @@ impl JointSoftness {
     /// A forest's coefficients over a substep of `h` seconds. Solved exactly, its rows need
     /// no softening against each other, so the position error is corrected as stiffly as a
     /// soft constraint integrated over `h` stays accurate (`hertz = 1 / (4 h)`), critically damped
-    /// (figures in the crate README, "Joint forests solved as one system").
+    /// (figures in `docs/physics/integrators-accuracy-hard-cases.md`, "Joint forests solved as one system").
     pub(crate) fn forest(h: f64) -> Softness {
         Softness::new(0.25 / h, 1.0, h)
     }
