@@ -31,6 +31,7 @@ use crate::geometry::{Manifold, V3};
 pub(crate) const MAX_SWEEPS: usize = 64;
 
 /// One touching manifold that bounces, at the centroid of its touching points.
+#[derive(Clone, Copy, Debug)]
 struct Point {
     a: usize,
     b: usize,
@@ -45,45 +46,52 @@ struct Point {
     e: f64,
 }
 
-/// Applies the pairwise impacts of the touching points of `manifolds` to the velocities of
-/// `bodies`; returns how many impacts it applied. `threshold` is the restitution threshold
-/// (m/s); `free` says whether a body is a free body (not an articulated tree's link).
-pub(crate) fn propagate(
-    manifolds: &[Manifold],
-    bodies: &mut BodySet,
-    threshold: f64,
-    free: impl Fn(usize) -> bool,
-) -> usize {
-    let points = touching_points(manifolds, bodies, free);
-    if points.is_empty() {
-        return 0;
-    }
-    let mut impacts = 0;
-    for _ in 0..MAX_SWEEPS {
-        let mut any = false;
-        for p in &points {
-            let dv = bodies.vel[p.b] + bodies.omega[p.b].cross(&p.rb)
-                - bodies.vel[p.a]
-                - bodies.omega[p.a].cross(&p.ra);
-            let vn = p.n.dot(&dv);
-            if vn >= -threshold {
-                continue;
+/// The touching manifolds that bounce, gathered each step into storage kept between steps.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct TouchingImpacts {
+    points: Vec<Point>,
+}
+
+impl TouchingImpacts {
+    /// Applies the pairwise impacts of the touching points of `manifolds` to the velocities
+    /// of `bodies`; returns how many impacts it applied. `threshold` is the restitution
+    /// threshold (m/s); `free` says whether a body is a free body (not an articulated tree's
+    /// link).
+    pub(crate) fn propagate(
+        &mut self,
+        manifolds: &[Manifold],
+        bodies: &mut BodySet,
+        threshold: f64,
+        free: impl Fn(usize) -> bool,
+    ) -> usize {
+        touching_points(manifolds, bodies, free, &mut self.points);
+        let mut impacts = 0;
+        for _ in 0..MAX_SWEEPS {
+            let mut any = false;
+            for p in &self.points {
+                let dv = bodies.vel[p.b] + bodies.omega[p.b].cross(&p.rb)
+                    - bodies.vel[p.a]
+                    - bodies.omega[p.a].cross(&p.ra);
+                let vn = p.n.dot(&dv);
+                if vn >= -threshold {
+                    continue;
+                }
+                let j = -(1.0 + p.e) * vn / p.k;
+                let imp = p.n * j;
+                let (a, b) = (p.a, p.b);
+                bodies.vel[a] -= imp * bodies.inv_mass[a];
+                bodies.omega[a] -= bodies.inv_inertia_world[a] * p.ra.cross(&imp);
+                bodies.vel[b] += imp * bodies.inv_mass[b];
+                bodies.omega[b] += bodies.inv_inertia_world[b] * p.rb.cross(&imp);
+                impacts += 1;
+                any = true;
             }
-            let j = -(1.0 + p.e) * vn / p.k;
-            let imp = p.n * j;
-            let (a, b) = (p.a, p.b);
-            bodies.vel[a] -= imp * bodies.inv_mass[a];
-            bodies.omega[a] -= bodies.inv_inertia_world[a] * p.ra.cross(&imp);
-            bodies.vel[b] += imp * bodies.inv_mass[b];
-            bodies.omega[b] += bodies.inv_inertia_world[b] * p.rb.cross(&imp);
-            impacts += 1;
-            any = true;
+            if !any {
+                break;
+            }
         }
-        if !any {
-            break;
-        }
+        impacts
     }
-    impacts
 }
 
 /// The points of `manifolds` that touch, bounce and join two awake-or-unmoving free bodies,
@@ -92,8 +100,9 @@ fn touching_points(
     manifolds: &[Manifold],
     bodies: &BodySet,
     free: impl Fn(usize) -> bool,
-) -> Vec<Point> {
-    let mut out = Vec::new();
+    out: &mut Vec<Point>,
+) {
+    out.clear();
     let takes_part = |i: usize| match bodies.kind[i] {
         BodyKind::Dynamic => bodies.awake[i],
         BodyKind::Kinematic | BodyKind::Fixed => true,
@@ -141,5 +150,4 @@ fn touching_points(
             });
         }
     }
-    out
 }

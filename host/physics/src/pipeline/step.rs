@@ -1,12 +1,12 @@
-//! The step of a world, stage by stage ([`World::step_unguarded`]): collision, the contacts'
-//! preparation, the joints and trees, the plan of the substeps, the solve per substep (warm
+//! The step of a world, stage by stage ([`World::step_unguarded`]): collision, the touching
+//! contacts' impacts (`impacts.rs`), the contacts' preparation, the joints and trees, the plan of the substeps, the solve per substep (warm
 //! start, solve, integrate, relax), the extra substeps of the islands that take them,
-//! restitution and the impulses' store, the trees stepped on their own, and the islands.
+//! restitution and the impulses' store, the fast balls' paths (`ccd.rs`), the trees stepped on their own, and the islands.
 
 use super::drives::DriveGroup;
 use super::tree_contacts::Proxy;
 use super::world::World;
-use super::{ccd, impacts, link_proxies};
+use super::{ccd, link_proxies};
 use super::{Effect, FreeForces, IntegratorKind, Stage};
 use crate::dynamics::solver::{
     ContactConstraint, ContactSettings, ContactStiffness, FreeJoint, JointSoftness, Softness,
@@ -151,9 +151,10 @@ impl World {
                 // The centre's travel (a body spinning in place, a top, keeps its contacts);
                 // the box swept along it, not grown all round.
                 let d = b.vel[i] * dt;
-                if d.norm() > 0.5 * spec {
+                let far = d.norm();
+                if far > 0.5 * spec {
                     travel.resize(b.len(), 0.0);
-                    travel[i] = d.norm();
+                    travel[i] = far;
                     aabb.min += d.inf(&V3::zeros());
                     aabb.max += d.sup(&V3::zeros());
                 }
@@ -268,7 +269,7 @@ impl World {
         };
         let proxies = &self.proxies;
         let free = |i: usize| proxies.get(i).is_none_or(Option::is_none);
-        self.counters.touching_impacts = impacts::propagate(
+        self.counters.touching_impacts = self.touching.propagate(
             &narrow.manifolds,
             &mut self.bodies,
             self.settings.restitution_threshold,

@@ -67,6 +67,8 @@ pub struct World {
     /// Each fast body's travel over this step beyond which its contacts are not kept (m;
     /// `CollisionBodies::travel`), empty when no body is fast or with continuous collision.
     pub(crate) travel: Vec<f64>,
+    /// The touching contacts that bounce, kept between steps (`impacts.rs`).
+    pub(crate) touching: super::impacts::TouchingImpacts,
     /// Substeps of those islands per substep of the step (1: none this step).
     pub(crate) fine_factor: usize,
     /// The soft contacts' stiffness of the last step, which each constraint takes as it is
@@ -147,6 +149,7 @@ impl World {
             sink_hold: SinkHold::default(),
             ball_paths: Vec::new(),
             travel: Vec::new(),
+            touching: Default::default(),
             fine_factor: 1,
             last_stiffness: None,
             scratch_constraint: ContactConstraint::blank(),
