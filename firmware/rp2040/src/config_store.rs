@@ -5,17 +5,23 @@
 //! At boot [`load`] reads the newest valid record and the settings are applied before
 //! the mice are initialised; a missing or damaged record means the defaults. A
 //! settings write from the host ([`save`]) is applied at once by the caller and
-//! written here by [`save_task`], outside the USB handler.
+//! written here by [`save_task`], outside the USB handler, when
+//! [`sensor_board::save_schedule`] says (a burst of changes is one write, at most one
+//! write a second, so at most one sector erase a minute); settings equal to those in
+//! flash are not written again, and [`flush`] writes what is pending at once (before a
+//! restart).
 //!
 //! A save is one page program (typically 0.4 ms with interrupts off); one save in
 //! every 113 first erases a sector (typically 45 ms, at most 400 ms for the W25Q16JV),
 //! during which nothing else runs: the watchdog is given [`FLASH_WATCHDOG`] for it,
 //! and the PS/2 receivers may overflow and recover (counted as FIFO stalls).
 
+use embassy_futures::select::{select, select3, Either, Either3};
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::signal::Signal;
-use embassy_time::Duration;
+use embassy_time::{Duration, Instant, Timer};
 use foosball_protocol::BoardSettings;
+use sensor_board::save_schedule::SaveSchedule;
 use sensor_board::store::RecordStore;
 
 use crate::board_flash::{BoardFlash, FLASH_SIZE};
@@ -64,20 +70,67 @@ pub fn load(flash: BoardFlash) -> (Store, Option<BoardSettings>) {
 /// The newest settings to write.
 static PENDING: Signal<CriticalSectionRawMutex, BoardSettings> = Signal::new();
 
-/// Asks [`save_task`] to keep `settings` (a newer call before it ran replaces it).
+/// A request to write the pending settings at once, and its answer.
+static FLUSH: Signal<CriticalSectionRawMutex, ()> = Signal::new();
+static FLUSHED: Signal<CriticalSectionRawMutex, ()> = Signal::new();
+
+/// Asks [`save_task`] to keep `settings` (a newer call before it wrote them replaces
+/// them).
 pub fn save(settings: BoardSettings) {
     PENDING.signal(settings);
 }
 
-/// Writes the settings [`save`] hands over, one record each.
+/// Writes the pending settings, if any, without waiting for a quiet moment; returns
+/// once they are in flash (or the write failed, logged), at most `timeout` later.
+pub async fn flush(timeout: Duration) {
+    FLUSHED.reset();
+    FLUSH.signal(());
+    if let Either::Second(()) = select(FLUSHED.wait(), Timer::after(timeout)).await {
+        defmt::warn!("settings not flushed in time");
+    }
+}
+
+/// Writes the settings [`save`] hands over when [`SaveSchedule`] says; `kept` are those
+/// in flash at boot.
 #[embassy_executor::task]
-pub async fn save_task(mut store: Store) -> ! {
+pub async fn save_task(mut store: Store, mut kept: Option<BoardSettings>) -> ! {
+    let mut schedule = SaveSchedule::new();
+    let mut pending = None;
     loop {
-        let settings = PENDING.wait().await;
-        watchdog::allow(FLASH_WATCHDOG);
-        match store.save(&settings.encode_fields()) {
-            Ok(()) => defmt::info!("settings written to flash"),
-            Err(err) => defmt::warn!("settings not written to flash: {}", err),
+        let due = schedule.due_at().map(Instant::from_micros);
+        let flushing = match select3(
+            PENDING.wait(),
+            FLUSH.wait(),
+            Timer::at(due.unwrap_or(Instant::MAX)),
+        )
+        .await
+        {
+            Either3::First(settings) => {
+                pending = Some(settings);
+                schedule.changed(Instant::now().as_micros());
+                continue;
+            }
+            Either3::Second(()) => true,
+            Either3::Third(()) => false,
+        };
+        if let Some(settings) = pending.take() {
+            let wrote = kept != Some(settings);
+            if wrote {
+                watchdog::allow(FLASH_WATCHDOG);
+                match store.save(&settings.encode_fields()) {
+                    Ok(()) => {
+                        kept = Some(settings);
+                        defmt::info!("settings written to flash");
+                    }
+                    Err(err) => defmt::warn!("settings not written to flash: {}", err),
+                }
+            } else {
+                defmt::info!("settings unchanged: not written to flash");
+            }
+            schedule.done(Instant::now().as_micros(), wrote);
+        }
+        if flushing {
+            FLUSHED.signal(());
         }
     }
 }

@@ -84,7 +84,7 @@ impl FeatureHandler {
             *out = byte;
         }
         DeviceInfo {
-            firmware_version: crate::usb_hid::FIRMWARE_VERSION,
+            firmware_version: crate::version::FIRMWARE_VERSION,
             git_hash,
             reset_reason: self.reset_reason,
             uptime_us: sensor_loop::now_us(),
@@ -99,13 +99,19 @@ static BOOTLOADER: Signal<CriticalSectionRawMutex, ()> = Signal::new();
 /// Time for the SET_REPORT's status stage to reach the host before the restart.
 const BOOTLOADER_DELAY: Duration = Duration::from_millis(20);
 
-/// Waits for `EnterBootloader`, stops the motors, then restarts the chip into the
-/// ROM's USB bootloader (the `RPI-RP2` drive and PICOBOOT; no activity LED).
+/// Longest wait for settings not yet in flash to be written before the restart (a
+/// sector erase takes at most 400 ms).
+const FLUSH_TIMEOUT: Duration = Duration::from_millis(1_000);
+
+/// Waits for `EnterBootloader`, stops the motors, writes settings not yet in flash,
+/// then restarts the chip into the ROM's USB bootloader (the `RPI-RP2` drive and
+/// PICOBOOT; no activity LED).
 #[embassy_executor::task]
 pub async fn bootloader_task() -> ! {
     BOOTLOADER.wait().await;
     defmt::warn!("restarting into the USB bootloader (host request)");
     haptics::PULSES.signal([foosball_protocol::HapticPulse::default(); PADDLES]);
+    config_store::flush(FLUSH_TIMEOUT).await;
     Timer::after(BOOTLOADER_DELAY).await;
     embassy_rp::rom_data::reset_to_usb_boot(0, 0);
     // The ROM does not return; should it ever, the watchdog restarts the firmware.

@@ -4,8 +4,9 @@
 //! wire protocol ([`ps2_pio`]), the platform-free `sensor-board` crate drives and
 //! decodes them ([`sensor_loop`]), and a USB HID interface sends the paddle motion
 //! every millisecond and takes haptic pulses and the LED state back ([`usb_hid`],
-//! [`haptics`], [`led`]). A watchdog resets the chip if the sensor loop stalls
-//! ([`watchdog`]); [`pins`] is the pin map.
+//! [`haptics`], [`led`]). A watchdog resets the chip if the sensor loop or the IN reports stall
+//! ([`watchdog`]); two resets in quick succession enter the USB bootloader
+//! ([`double_tap`]); [`pins`] is the pin map.
 //!
 //! This file only wires the parts together.
 #![no_std]
@@ -13,15 +14,18 @@
 
 mod board_flash;
 mod config_store;
+mod double_tap;
 mod feature;
 mod haptics;
 mod led;
 mod panic;
 mod pins;
 mod ps2_pio;
+mod rx_ring;
 mod sensor_loop;
 mod usb_hid;
 mod usb_in_flight;
+mod version;
 mod watchdog;
 
 use defmt::unwrap;
@@ -42,6 +46,13 @@ bind_interrupts!(struct Irqs {
 async fn main(spawner: Spawner) {
     let board = pins::Board::take(embassy_rp::init(Default::default()));
     defmt::info!("Space Foosball sensor board starting");
+    if double_tap::second_reset() {
+        defmt::warn!(
+            "reset twice within {} ms: restarting into the USB bootloader",
+            double_tap::WINDOW.as_millis()
+        );
+        embassy_rp::rom_data::reset_to_usb_boot(0, 0);
+    }
     let panicked = panic::take_last();
     if let Some(message) = &panicked {
         defmt::warn!("the previous run panicked: {=str}", message.as_str());
@@ -53,6 +64,7 @@ async fn main(spawner: Spawner) {
         Pio::new(board.pio0, Irqs),
         Pio::new(board.pio1, Irqs),
         board.ps2,
+        board.ps2_dma,
     );
     let haptics = haptics::Haptics::new(board.haptics);
     let mut flash = board_flash::open(board.flash);
@@ -70,5 +82,6 @@ async fn main(spawner: Spawner) {
     spawner.spawn(unwrap!(usb_hid::report_in_task(usb.writer)));
     spawner.spawn(unwrap!(usb_hid::report_out_task(usb.reader)));
     spawner.spawn(unwrap!(feature::bootloader_task()));
-    spawner.spawn(unwrap!(config_store::save_task(store)));
+    spawner.spawn(unwrap!(config_store::save_task(store, kept)));
+    spawner.spawn(unwrap!(double_tap::wipe_task()));
 }

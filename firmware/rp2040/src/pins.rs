@@ -20,13 +20,14 @@
 //!
 //! PS/2 ports 0..3 run on the four state machines of PIO0, ports 4..7 on PIO1. The
 //! PIO program addresses the clock line as "data + 1", so each port's two GPIOs must
-//! be consecutive, data first.
+//! be consecutive, data first. DMA channel *n* copies port *n*'s received words into
+//! its ring in RAM (`rx_ring.rs`).
 
 use embassy_rp::peripherals::{
-    FLASH, PIN_0, PIN_1, PIN_10, PIN_11, PIN_12, PIN_13, PIN_14, PIN_15, PIN_16, PIN_17, PIN_18,
-    PIN_19, PIN_2, PIN_20, PIN_21, PIN_22, PIN_25, PIN_28, PIN_3, PIN_4, PIN_5, PIN_6, PIN_7,
-    PIN_8, PIN_9, PIO0, PIO1, PWM_SLICE0, PWM_SLICE1, PWM_SLICE2, PWM_SLICE3, PWM_SLICE6, USB,
-    WATCHDOG,
+    DMA_CH0, DMA_CH1, DMA_CH2, DMA_CH3, DMA_CH4, DMA_CH5, DMA_CH6, DMA_CH7, FLASH, PIN_0, PIN_1,
+    PIN_10, PIN_11, PIN_12, PIN_13, PIN_14, PIN_15, PIN_16, PIN_17, PIN_18, PIN_19, PIN_2, PIN_20,
+    PIN_21, PIN_22, PIN_25, PIN_28, PIN_3, PIN_4, PIN_5, PIN_6, PIN_7, PIN_8, PIN_9, PIO0, PIO1,
+    PWM_SLICE0, PWM_SLICE1, PWM_SLICE2, PWM_SLICE3, PWM_SLICE6, USB, WATCHDOG,
 };
 use embassy_rp::{Peri, Peripherals};
 
@@ -91,6 +92,20 @@ pub struct HapticPins {
     pub slice6: (Peri<'static, PWM_SLICE6>, Peri<'static, PIN_28>),
 }
 
+/// The DMA channels of the PS/2 receive rings, channel *n* for port *n*.
+pub struct Ps2Dma {
+    /// Ports 0..=3 (PIO0 SM0..=3).
+    pub ch0: Peri<'static, DMA_CH0>,
+    pub ch1: Peri<'static, DMA_CH1>,
+    pub ch2: Peri<'static, DMA_CH2>,
+    pub ch3: Peri<'static, DMA_CH3>,
+    /// Ports 4..=7 (PIO1 SM0..=3).
+    pub ch4: Peri<'static, DMA_CH4>,
+    pub ch5: Peri<'static, DMA_CH5>,
+    pub ch6: Peri<'static, DMA_CH6>,
+    pub ch7: Peri<'static, DMA_CH7>,
+}
+
 /// Every peripheral the firmware uses, grouped by the module that drives it.
 pub struct Board {
     /// PIO block for PS/2 ports 0..3.
@@ -99,6 +114,8 @@ pub struct Board {
     pub pio1: Peri<'static, PIO1>,
     /// PS/2 lines.
     pub ps2: Ps2Pins,
+    /// PS/2 receive rings' DMA channels.
+    pub ps2_dma: Ps2Dma,
     /// Haptic motor outputs.
     pub haptics: HapticPins,
     /// Status LED.
@@ -126,6 +143,16 @@ impl Board {
                 port5: (p.PIN_10, p.PIN_11),
                 port6: (p.PIN_12, p.PIN_13),
                 port7: (p.PIN_14, p.PIN_15),
+            },
+            ps2_dma: Ps2Dma {
+                ch0: p.DMA_CH0,
+                ch1: p.DMA_CH1,
+                ch2: p.DMA_CH2,
+                ch3: p.DMA_CH3,
+                ch4: p.DMA_CH4,
+                ch5: p.DMA_CH5,
+                ch6: p.DMA_CH6,
+                ch7: p.DMA_CH7,
             },
             haptics: HapticPins {
                 slice0: (p.PWM_SLICE0, p.PIN_16, p.PIN_17),

@@ -19,7 +19,10 @@
 //! 0, a line is pulled low by making it an output and released by making it an input
 //! (pulled up: internal pull-up here, the 5 V pull-ups behind the level shifter).
 //!
-//! The software side ([`PioPs2Port`]) turns RX FIFO words into [`Ps2Event`]s and
+//! Each state machine's RX FIFO is drained by DMA into a ring in RAM ([`RxRing`]), so
+//! no word is lost while the CPU is away (a flash erase).
+//!
+//! The software side ([`PioPs2Port`]) turns the received words into [`Ps2Event`]s and
 //! enforces the send timeout: the program waits on the device's clock without a
 //! time limit, so when no completion arrives in [`SEND_TIMEOUT_US`] the port reports
 //! the failure and restarts its state machine.
@@ -35,7 +38,8 @@ use embassy_rp::pio_programs::clock_divider::calculate_pio_clock_divider;
 use embassy_rp::{gpio, Peri};
 use sensor_board::{HostFrame, LineFault, Ps2Frame, SendError, PORTS};
 
-use crate::pins::Ps2Pins;
+use crate::pins::{Ps2Dma, Ps2Pins};
+use crate::rx_ring::RxRing;
 
 /// PIO clock: one instruction cycle per microsecond, the time unit of the delays in
 /// the program.
@@ -181,8 +185,16 @@ pub trait Ps2Port {
 /// the port's state ([`PortCore`], where the logic is, so that it exists once in
 /// flash rather than once per state machine).
 pub struct PioPs2Port<'d, PIO: Instance, const SM: usize> {
-    sm: StateMachine<'d, PIO, SM>,
+    wire: Wire<'d, PIO, SM>,
     core: PortCore,
+}
+
+/// A port's state machine and the ring its RX FIFO drains into.
+struct Wire<'d, PIO: Instance, const SM: usize> {
+    sm: StateMachine<'d, PIO, SM>,
+    rx: RxRing,
+    /// The ring overflowed (words lost): reported as an RX stall.
+    overflowed: bool,
 }
 
 /// The state machine configuration of a port with lines `data` and `clock`
@@ -229,25 +241,32 @@ trait Machine {
     fn restart_at(&mut self, idle_addr: u8);
 }
 
-impl<PIO: Instance, const SM: usize> Machine for StateMachine<'_, PIO, SM> {
+impl<PIO: Instance, const SM: usize> Machine for Wire<'_, PIO, SM> {
     fn rx_stalled(&mut self) -> bool {
-        self.rx().stalled()
+        self.overflowed || self.sm.rx().stalled()
     }
 
     fn rx_level(&mut self) -> u8 {
-        self.rx().level()
+        self.rx.level().min(usize::from(u8::MAX)) as u8
     }
 
     fn rx_pull(&mut self) -> Option<u32> {
-        self.rx().try_pull()
+        match self.rx.pull() {
+            Ok(word) => word,
+            Err(_lost) => {
+                self.overflowed = true;
+                self.rx.clear();
+                None
+            }
+        }
     }
 
     fn tx_push(&mut self, word: u32) {
-        self.tx().push(word);
+        self.sm.tx().push(word);
     }
 
     fn addr(&self) -> u8 {
-        self.get_addr()
+        self.sm.get_addr()
     }
 
     fn restart_at(&mut self, idle_addr: u8) {
@@ -256,16 +275,19 @@ impl<PIO: Instance, const SM: usize> Machine for StateMachine<'_, PIO, SM> {
             data: 0,
         }
         .encode();
-        self.set_enable(false);
-        self.restart();
-        self.clear_fifos();
+        let sm = &mut self.sm;
+        sm.set_enable(false);
+        sm.restart();
+        sm.clear_fifos();
+        self.rx.clear();
+        self.overflowed = false;
         // SAFETY: the state machine is stopped; SET PINDIRS touches only this port's
         // two lines (SET base/count from the config) and JMP only moves its PC.
         unsafe {
-            self.exec_instr(RELEASE_BOTH);
-            self.exec_jmp(idle_addr);
+            sm.exec_instr(RELEASE_BOTH);
+            sm.exec_jmp(idle_addr);
         }
-        self.set_enable(true);
+        sm.set_enable(true);
     }
 }
 
@@ -295,6 +317,7 @@ impl<'d, PIO: Instance, const SM: usize> PioPs2Port<'d, PIO, SM> {
     pub fn new(
         common: &mut Common<'d, PIO>,
         mut sm: StateMachine<'d, PIO, SM>,
+        rx: RxRing,
         program: &Ps2Program<'d, PIO>,
         data: Peri<'d, impl PioPin>,
         clock: Peri<'d, impl PioPin>,
@@ -315,9 +338,14 @@ impl<'d, PIO: Instance, const SM: usize> PioPs2Port<'d, PIO, SM> {
 
         let origin = program.program.origin;
         let idle_addr = (origin + program.idle) % 32;
-        sm.restart_at(idle_addr);
-        Self {
+        let mut wire = Wire {
             sm,
+            rx,
+            overflowed: false,
+        };
+        wire.restart_at(idle_addr);
+        Self {
+            wire,
             core: PortCore {
                 origin,
                 idle_addr,
@@ -444,7 +472,7 @@ impl PortCore {
 
 impl<PIO: Instance, const SM: usize> Ps2Port for PioPs2Port<'_, PIO, SM> {
     fn next_event(&mut self, now_us: u64) -> Option<Ps2Event> {
-        self.core.next_event(&mut self.sm, now_us)
+        self.core.next_event(&mut self.wire, now_us)
     }
 
     fn sending(&self) -> bool {
@@ -456,7 +484,7 @@ impl<PIO: Instance, const SM: usize> Ps2Port for PioPs2Port<'_, PIO, SM> {
     }
 
     fn send(&mut self, frame: HostFrame, now_us: u64) {
-        self.core.send(&mut self.sm, frame, now_us);
+        self.core.send(&mut self.wire, frame, now_us);
     }
 }
 
@@ -477,7 +505,12 @@ pub struct Ps2Ports {
 
 impl Ps2Ports {
     /// Loads the program into both PIO blocks and starts all eight ports.
-    pub fn new(pio0: Pio<'static, PIO0>, pio1: Pio<'static, PIO1>, pins: Ps2Pins) -> Self {
+    pub fn new(
+        pio0: Pio<'static, PIO0>,
+        pio1: Pio<'static, PIO1>,
+        pins: Ps2Pins,
+        dma: Ps2Dma,
+    ) -> Self {
         let Pio {
             common: mut common0,
             sm0: sm00,
@@ -505,14 +538,70 @@ impl Ps2Ports {
         let (d6, c6) = pins.port6;
         let (d7, c7) = pins.port7;
         Self {
-            port0: PioPs2Port::new(&mut common0, sm00, &program0, d0, c0),
-            port1: PioPs2Port::new(&mut common0, sm01, &program0, d1, c1),
-            port2: PioPs2Port::new(&mut common0, sm02, &program0, d2, c2),
-            port3: PioPs2Port::new(&mut common0, sm03, &program0, d3, c3),
-            port4: PioPs2Port::new(&mut common1, sm10, &program1, d4, c4),
-            port5: PioPs2Port::new(&mut common1, sm11, &program1, d5, c5),
-            port6: PioPs2Port::new(&mut common1, sm12, &program1, d6, c6),
-            port7: PioPs2Port::new(&mut common1, sm13, &program1, d7, c7),
+            port0: PioPs2Port::new(
+                &mut common0,
+                sm00,
+                RxRing::new(dma.ch0, 0, 0, 0),
+                &program0,
+                d0,
+                c0,
+            ),
+            port1: PioPs2Port::new(
+                &mut common0,
+                sm01,
+                RxRing::new(dma.ch1, 1, 0, 1),
+                &program0,
+                d1,
+                c1,
+            ),
+            port2: PioPs2Port::new(
+                &mut common0,
+                sm02,
+                RxRing::new(dma.ch2, 2, 0, 2),
+                &program0,
+                d2,
+                c2,
+            ),
+            port3: PioPs2Port::new(
+                &mut common0,
+                sm03,
+                RxRing::new(dma.ch3, 3, 0, 3),
+                &program0,
+                d3,
+                c3,
+            ),
+            port4: PioPs2Port::new(
+                &mut common1,
+                sm10,
+                RxRing::new(dma.ch4, 4, 1, 0),
+                &program1,
+                d4,
+                c4,
+            ),
+            port5: PioPs2Port::new(
+                &mut common1,
+                sm11,
+                RxRing::new(dma.ch5, 5, 1, 1),
+                &program1,
+                d5,
+                c5,
+            ),
+            port6: PioPs2Port::new(
+                &mut common1,
+                sm12,
+                RxRing::new(dma.ch6, 6, 1, 2),
+                &program1,
+                d6,
+                c6,
+            ),
+            port7: PioPs2Port::new(
+                &mut common1,
+                sm13,
+                RxRing::new(dma.ch7, 7, 1, 3),
+                &program1,
+                d7,
+                c7,
+            ),
             _common0: common0,
             _common1: common1,
         }

@@ -33,7 +33,7 @@ use foosball_protocol::{HapticPulse, LedState, OutReport, ResetReason, IN_REPORT
 use static_cell::StaticCell;
 
 use crate::feature::FeatureHandler;
-use crate::{haptics, led, sensor_loop, usb_in_flight};
+use crate::{haptics, led, sensor_loop, usb_in_flight, version, watchdog};
 
 /// The RP2040 USB device controller driver.
 pub type UsbDriver = Driver<'static, USB>;
@@ -78,7 +78,7 @@ impl Usb {
         config.composite_with_iads = false;
         config.max_power = MAX_POWER_MA;
         config.max_packet_size_0 = 64;
-        config.device_release = DEVICE_RELEASE;
+        config.device_release = version::DEVICE_RELEASE;
 
         static CONFIG_DESCRIPTOR: StaticCell<[u8; 64]> = StaticCell::new();
         static BOS_DESCRIPTOR: StaticCell<[u8; 16]> = StaticCell::new();
@@ -120,44 +120,6 @@ impl Usb {
     }
 }
 
-/// `bcdDevice`: this crate's version as binary-coded decimal `0xJJMN` (major `JJ`,
-/// minor `M`, patch `N`), so a host can tell which firmware it talks to.
-const DEVICE_RELEASE: u16 = bcd_release(
-    env!("CARGO_PKG_VERSION_MAJOR"),
-    env!("CARGO_PKG_VERSION_MINOR"),
-    env!("CARGO_PKG_VERSION_PATCH"),
-);
-
-/// This crate's version: major, minor, patch (the diagnostics Feature report).
-pub const FIRMWARE_VERSION: [u8; 3] = [
-    decimal(env!("CARGO_PKG_VERSION_MAJOR"), 255) as u8,
-    decimal(env!("CARGO_PKG_VERSION_MINOR"), 255) as u8,
-    decimal(env!("CARGO_PKG_VERSION_PATCH"), 255) as u8,
-];
-
-/// A decimal version component; fails the build above `max` (BCD has no room).
-const fn decimal(digits: &str, max: u16) -> u16 {
-    let bytes = digits.as_bytes();
-    let mut value = 0u16;
-    let mut i = 0;
-    while i < bytes.len() {
-        assert!(
-            bytes[i].is_ascii_digit(),
-            "version component is not a number"
-        );
-        value = value * 10 + (bytes[i] - b'0') as u16;
-        assert!(value <= max, "version component too large for bcdDevice");
-        i += 1;
-    }
-    value
-}
-
-/// `0xJJMN` from the three version components.
-const fn bcd_release(major: &str, minor: &str, patch: &str) -> u16 {
-    let major = decimal(major, 99);
-    ((major / 10) << 12) | ((major % 10) << 8) | (decimal(minor, 9) << 4) | decimal(patch, 9)
-}
-
 /// Bus events: a suspend or a bus reset stops every motor at once (a pulse must not
 /// run on while the host is gone); suspend also turns the LED off (a suspended
 /// device may draw 2.5 mA), a reset puts it back to its power-up blinking (no host
@@ -172,9 +134,14 @@ impl BusHandler {
 
 impl embassy_usb::Handler for BusHandler {
     fn reset(&mut self) {
+        usb_in_flight::bus_changed();
         defmt::info!("USB bus reset: motors stopped");
         Self::stop_motors();
         led::STATE.signal(led::BOOT_STATE);
+    }
+
+    fn configured(&mut self, _configured: bool) {
+        usb_in_flight::bus_changed();
     }
 
     fn suspended(&mut self, suspended: bool) {
@@ -239,38 +206,51 @@ pub async fn usb_device_task(mut device: UsbDevice<'static, UsbDriver>) -> ! {
     device.run().await
 }
 
-/// Polling period of the IN endpoint the host was asked for.
+/// Polling period of the IN endpoint the host was asked for: one frame.
 const POLL_PERIOD: Duration = Duration::from_millis(POLL_INTERVAL_MS as u64);
 
-/// How long before the host's expected IN token the report is snapshot and armed:
-/// long enough for the pass over the ports, the copy into the USB buffer and the
-/// executor's wake-up latency, short so the report is fresh.
-const LEAD: Duration = Duration::from_micros(150);
+/// How long before the host's next start of frame the armed report is replaced by a
+/// fresh one: long enough for a pass over the ports the executor may be in the middle
+/// of, the pass of the snapshot and the copy into the USB buffer, so the replacement is
+/// done before the frame starts and no IN token of the frame finds the endpoint
+/// revoked; short so the report is fresh (measured in the firmware-in-the-loop
+/// harness: about 40 µs from the timer to the revoke, 13 µs revoked).
+pub const LEAD: Duration = Duration::from_micros(100);
 
-/// The host counts as late (paused, or a missed frame) once its IN token is this
-/// much overdue; from then on the armed report is refreshed every [`REFRESH`].
-const LATE: Duration = Duration::from_micros(100);
+/// The armed report is replaced only while this much time is left before the frame
+/// starts (the revoke, the copy and the release take about 13 µs); later, the armed
+/// report stays for the frame, a millisecond older but never a NAK.
+const REPLACE_TIME: Duration = Duration::from_micros(25);
 
-/// While the host is late, the armed report is replaced by a fresh one this often,
-/// so whenever it comes back the first report it takes is at most this old.
-const REFRESH: Duration = Duration::from_micros(150);
+/// Without frame starts to follow ([`usb_in_flight::FRAMES_LOST`]), how often the armed
+/// report is replaced.
+const REFRESH: Duration = Duration::from_micros(250);
 
-/// Keeps exactly one fresh IN report in flight while the endpoint is enabled.
+/// While the endpoint is disabled, how often the IN task checks in with the watchdog.
+const IDLE_CHECK_IN: Duration = Duration::from_millis(10);
+
+/// Keeps the freshest IN report armed while the endpoint is enabled.
 ///
-/// The report is a snapshot of the accumulators ([`sensor_loop::snapshot_report`]),
-/// armed [`LEAD`] before the host's next IN token is due (one polling period after
-/// it took the previous one). Only when the host has taken it is its motion removed
-/// from the accumulators ([`sensor_loop::commit`]); motion that arrived meanwhile
-/// stays for the next report. If the host does not come when due, the armed report
-/// is revoked and replaced by a fresh one every [`REFRESH`] (same sequence number:
-/// it has not been sent), so after a pause the host gets current motion, not motion
-/// from before the pause. A report that was never sent (bus reset, deconfigured) is
-/// never committed, so nothing is lost; a buffer such an event cleared is armed again
-/// at the next refresh.
+/// The report is a snapshot of the accumulators ([`sensor_loop::snapshot_report`]).
+/// As soon as the host has taken one, its motion leaves the accumulators
+/// ([`sensor_loop::commit`]; motion that arrived meanwhile stays for the next) and the
+/// next is armed at once, so a token that comes early finds data. [`LEAD`] before each
+/// start of frame the armed report is replaced by a fresh one (same sequence number: it
+/// has not been sent): the host's token comes somewhere in the frame, after its start
+/// (at once, or moved by other traffic, or on a hub's 125 µs microframes), and takes a
+/// report at most [`LEAD`] older than the frame. The replacement takes the snapshot
+/// first and revokes the armed report only for the copy, a few microseconds. After a
+/// pause of the host the first report it takes is as fresh. A report that was never
+/// sent (bus reset, deconfigured) is never committed, so nothing is lost; a buffer such
+/// an event cleared is armed again at the next replacement.
 #[embassy_executor::task]
 pub async fn report_in_task(mut writer: ReportWriter) -> ! {
+    usb_in_flight::track_frames();
     loop {
-        writer.ready().await;
+        // No host yet (or a power-only port): still alive for the watchdog.
+        while let Either::Second(()) = select(writer.ready(), Timer::after(IDLE_CHECK_IN)).await {
+            watchdog::check_in(watchdog::Task::ReportsIn);
+        }
         usb_in_flight::TAKEN.reset();
         defmt::info!("USB IN endpoint enabled: sending reports");
         if let Err(err) = send_reports(&mut writer).await {
@@ -279,31 +259,57 @@ pub async fn report_in_task(mut writer: ReportWriter) -> ! {
     }
 }
 
-/// The in-flight loop of [`report_in_task`]; returns when the endpoint stops.
+/// When the armed report is next replaced: [`LEAD`] before the next start of frame
+/// after `now` (also returned), or [`REFRESH`] from `now` while frame starts are not
+/// followed.
+fn next_replacement(now: Instant) -> (Instant, Option<Instant>) {
+    match usb_in_flight::last_frame_start() {
+        Some(start) if now.saturating_duration_since(start) < usb_in_flight::FRAMES_LOST => {
+            let mut frame = start + POLL_PERIOD;
+            while frame - LEAD <= now {
+                frame += POLL_PERIOD;
+            }
+            (frame - LEAD, Some(frame))
+        }
+        _ => (now + REFRESH, None),
+    }
+}
+
+/// The loop of [`report_in_task`]; returns when the endpoint stops.
 async fn send_reports(writer: &mut ReportWriter) -> Result<(), EndpointError> {
     let mut armed = sensor_loop::snapshot_report();
+    let mut armed_at = usb_in_flight::bus_epoch();
     writer.write(&armed.to_bytes()).await?;
-    // When the host's next IN token is due; `None` while it is late.
-    let mut due: Option<Instant> = None;
     loop {
-        let deadline = due.map_or_else(|| Instant::now() + REFRESH, |at| at + LATE);
-        match select(usb_in_flight::TAKEN.wait(), Timer::at(deadline)).await {
-            Either::First(taken_at) => {
+        watchdog::check_in(watchdog::Task::ReportsIn);
+        let (replace_at, frame) = next_replacement(Instant::now());
+        match select(usb_in_flight::TAKEN.wait(), Timer::at(replace_at)).await {
+            Either::First(_) => {
                 sensor_loop::commit(&armed);
-                let next = taken_at + POLL_PERIOD;
-                due = Some(next);
-                Timer::at(next - LEAD).await;
                 armed = sensor_loop::snapshot_report();
+                armed_at = usb_in_flight::bus_epoch();
                 writer.write(&armed.to_bytes()).await?;
             }
             Either::Second(()) => {
-                due = None;
+                let fresh = sensor_loop::snapshot_report();
+                if frame.is_some_and(|start| Instant::now() + REPLACE_TIME > start) {
+                    continue;
+                }
                 let revoked = usb_in_flight::revoke();
-                // Still aborted, so nothing can complete meanwhile: a buffer neither
-                // armed nor taken was cleared by a bus reset or a new configuration.
-                let lost = !revoked && !usb_in_flight::armed() && !usb_in_flight::TAKEN.signaled();
-                let result = if revoked || lost {
+                // Still aborted, so nothing can complete meanwhile. A buffer neither
+                // armed nor signalled taken was taken (its interrupt missed) if the bus
+                // is as it was when it was armed, else cleared by a bus reset or a new
+                // configuration, unsent.
+                let empty = !revoked && !usb_in_flight::armed() && !usb_in_flight::TAKEN.signaled();
+                let taken_unseen = empty && usb_in_flight::bus_epoch() == armed_at;
+                if taken_unseen {
+                    sensor_loop::commit(&armed);
                     armed = sensor_loop::snapshot_report();
+                } else if revoked || empty {
+                    armed = fresh;
+                }
+                let result = if revoked || empty {
+                    armed_at = usb_in_flight::bus_epoch();
                     writer.write(&armed.to_bytes()).await
                 } else {
                     Ok(())

@@ -1,18 +1,44 @@
-//! The watchdog: resets the chip if the sensor loop stops running.
+//! The watchdog: resets the chip if the sensor loop or the IN reports stop running.
 //!
-//! The sensor loop feeds it every pass (every 250 µs); if the executor wedges, a
-//! task hogs the CPU, or a PS/2 port's handling loops, the chip resets after
-//! [`TIMEOUT`] and the mice are re-initialised from scratch. It is paused while a
-//! debugger halts the core.
+//! The sensor loop feeds it every pass (every 250 µs), but only once every task of
+//! [`Task`] has checked in since the last feed ([`check_in`]); if the executor wedges,
+//! a task hogs the CPU or waits forever, or a PS/2 port's handling loops, the chip
+//! resets after [`TIMEOUT`] and the mice are re-initialised from scratch. It is paused
+//! while a debugger halts the core.
+
+use core::cell::Cell;
 
 use embassy_rp::peripherals::WATCHDOG;
 use embassy_rp::watchdog::{ResetReason, Watchdog as RpWatchdog};
 use embassy_rp::Peri;
+use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
+use embassy_sync::blocking_mutex::Mutex;
 use embassy_time::Duration;
 use foosball_protocol::ResetReason as BootReason;
 
 /// How long the sensor loop may go without feeding the watchdog.
 pub const TIMEOUT: Duration = Duration::from_millis(100);
+
+/// The tasks that must check in between two feeds.
+#[derive(Clone, Copy)]
+pub enum Task {
+    /// The sensor loop (each pass).
+    Sensors = 0,
+    /// The IN report task (each report, each replacement, and while it waits for the
+    /// host to enable the endpoint).
+    ReportsIn = 1,
+}
+
+/// Every [`Task`]'s bit.
+const ALL_TASKS: u8 = 0b11;
+
+/// The tasks checked in since the last feed, one bit each.
+static CHECKED_IN: Mutex<CriticalSectionRawMutex, Cell<u8>> = Mutex::new(Cell::new(0));
+
+/// `task` is running.
+pub fn check_in(task: Task) {
+    CHECKED_IN.lock(|bits| bits.set(bits.get() | 1 << task as u8));
+}
 
 /// The running watchdog.
 pub struct Watchdog(RpWatchdog);
@@ -40,9 +66,18 @@ impl Watchdog {
         (Self(watchdog), reason)
     }
 
-    /// Restarts the countdown.
+    /// Restarts the countdown if every task has checked in since the last time it did.
     pub fn feed(&mut self) {
-        self.0.feed(TIMEOUT);
+        let all = CHECKED_IN.lock(|bits| {
+            let all = bits.get() == ALL_TASKS;
+            if all {
+                bits.set(0);
+            }
+            all
+        });
+        if all {
+            self.0.feed(TIMEOUT);
+        }
     }
 }
 

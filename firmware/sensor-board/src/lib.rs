@@ -11,7 +11,8 @@
 //!   configure, stream, probe, hot-plug, absent) and 3-byte [`MousePacket`]s.
 //! * [`paddle`]: per-paddle saturating accumulators and the per-port [`AxisMap`].
 //! * [`board`]: eight ports → one [`foosball_protocol::InReport`] per millisecond.
-//! * [`store`]: a record store in NOR flash that survives power cuts (the settings).
+//! * [`store`]: a record store in NOR flash that survives power cuts (the settings),
+//!   and [`save_schedule`]: when changed settings are written, as fast as the flash lasts.
 //! * the Feature reports' view of the board: [`SensorBoard::settings`],
 //!   [`SensorBoard::apply_settings`], [`SensorBoard::port_diagnostics`].
 //!
@@ -23,6 +24,7 @@ pub mod board;
 pub mod mouse;
 pub mod paddle;
 pub mod ps2;
+pub mod save_schedule;
 mod settings;
 pub mod store;
 

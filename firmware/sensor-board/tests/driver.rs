@@ -641,6 +641,26 @@ fn idle_mouse_is_probed_with_a_status_request_and_stays_present() {
 }
 
 #[test]
+fn a_probe_that_cuts_a_packet_short_takes_its_answer_not_the_packet() {
+    let mut h = streaming();
+    assert!(h.run_for(29 * MS).is_empty());
+    // The probe is handed out after 30 ms of silence; the first byte of a packet the
+    // mouse had begun arrives before the request-to-send is through.
+    h.now += MS;
+    assert_eq!(h.driver.poll(h.now), Some(0xE9));
+    assert!(h.recv(0x08).is_none());
+    h.driver.on_command_sent(h.now, Ok(()));
+    // The answer, then the interrupted motion again in a whole packet.
+    assert!(h.recv_all(&[0xFA, 0x20, 0x03, 200]).is_empty());
+    let packets = h.recv_all(&[0x08, 0x0C, 0x00]);
+    assert_eq!(packets.len(), 1);
+    assert_eq!((packets[0].dx, packets[0].dy), (12, 0));
+    assert!(!packets[0].x_overflow && !packets[0].y_overflow);
+    assert!(h.driver.is_present());
+    assert_eq!(h.driver.stats().reconfigurations, 0);
+}
+
+#[test]
 fn a_status_with_other_settings_reconfigures_the_mouse() {
     // Reporting off, 4 counts/mm, 100/s: the power-on defaults of a mouse that
     // restarted without the driver seeing its announcement.

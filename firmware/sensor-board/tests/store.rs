@@ -247,3 +247,48 @@ proptest! {
         prop_assert_eq!(s.load(), Ok(Some(payload(9))));
     }
 }
+
+/// Records of `N` bytes that fit a sector (the store's slots are the record padded to
+/// the write size: 1 byte here).
+const SLOTS: usize = SECTOR / (12 + N);
+
+#[test]
+fn a_host_writing_settings_in_a_loop_for_a_minute_causes_at_most_one_erase() {
+    use sensor_board::save_schedule::SaveSchedule;
+    // From every fill level of the current sector: a new value from the host every
+    // 50 ms for 60 s, written when the schedule says.
+    for already in 0..SLOTS as u32 {
+        let mut s = store(Flash::<1>::blank());
+        for i in 0..already {
+            s.save(&payload(i)).unwrap();
+        }
+        let mut flash = s.into_inner();
+        flash.erases = 0;
+        let mut s = store(flash);
+        let mut schedule = SaveSchedule::new();
+        let mut value = None;
+        let mut writes = 0;
+        let period_us = 50_000;
+        let end_us = 60_000_000;
+        let mut now = 0u64;
+        while now <= end_us + 10_000_000 {
+            if now < end_us && now % period_us == 0 {
+                value = Some(payload(1_000 + (now / period_us) as u32));
+                schedule.changed(now);
+            }
+            if schedule.due_at().is_some_and(|at| now >= at) {
+                s.save(&value.unwrap()).unwrap();
+                schedule.done(now, true);
+                writes += 1;
+            }
+            now += 1_000;
+        }
+        assert_eq!(s.load().unwrap(), value, "the last value is kept");
+        let erases = s.into_inner().erases;
+        assert!(
+            erases <= 1,
+            "{erases} erases from {already} records in ({writes} writes)"
+        );
+        assert!(writes <= 61, "{writes} writes");
+    }
+}

@@ -29,14 +29,17 @@ export class Board {
   /**
    * @param {string} elfPath the firmware ELF
    * @param {{ onLog?: (msg: {level: string, text: string, timeUs: number}) => void,
-   *           uf2Path?: string, uniqueId?: number[], flashImage?: Uint8Array }} options
+   *           uf2Path?: string, uniqueId?: number[], flashImage?: Uint8Array,
+   *           sramImage?: Uint8Array }} options
    *   uf2Path: flash comes from this UF2 (checked block by block, `readUf2`), as the
    *   bootrom would write it; the ELF then only gives the symbols (RTT, defmt)
    *   uniqueId: the flash chip's 8-byte unique id (the USB serial number)
    *   flashImage: the whole flash as another board left it (a power cycle: what the
    *   firmware wrote survives); replaces the UF2's and the ELF's image
+   *   sramImage: the RAM as another board left it (a reset through the RUN pin: SRAM
+   *   keeps its contents, the chip starts again from the boot ROM)
    */
-  constructor(elfPath, { onLog, uf2Path, uniqueId = DEFAULT_UNIQUE_ID, flashImage } = {}) {
+  constructor(elfPath, { onLog, uf2Path, uniqueId = DEFAULT_UNIQUE_ID, flashImage, sramImage } = {}) {
     this.elf = new Elf(new Uint8Array(readFileSync(elfPath)));
     const rp = new RP2040();
     this.rp = rp;
@@ -76,6 +79,9 @@ export class Board {
 
     if (flashImage) {
       rp.flash.set(flashImage);
+    }
+    if (sramImage) {
+      rp.sram.set(sramImage);
     }
     // The ROM functions and the flash chip's unique id (`boot-rom.mjs`).
     this.rom = installBootRom(this, { uniqueId });

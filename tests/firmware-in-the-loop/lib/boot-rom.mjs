@@ -67,9 +67,11 @@ export function inRom(address) {
 /**
  * Installs the ROM and the flash chip model on `board` (a `Board`).
  * `uniqueId`: the 8 bytes the flash answers to 0x4B.
- * Returns `{ usbBoot, flashOps }`: `usbBoot` is null until `reset_to_usb_boot` is
- * entered, then `{ gpioMask, disableMask, timeUs }`; `flashOps` lists erases and
- * programs (`{ op, offset, length, timeUs }`).
+ * Returns `{ usbBoot, flashOps, eraseUsPerSector }`: `usbBoot` is null until
+ * `reset_to_usb_boot` is entered, then `{ gpioMask, disableMask, timeUs }`; `flashOps`
+ * lists erases and programs (`{ op, offset, length, timeUs }`); `eraseUsPerSector` is
+ * how long an erase holds the CPU per sector (the typical time; a test may set the
+ * datasheet's worst, 400 ms).
  */
 export function installBootRom(board, { uniqueId }) {
   const rp = board.rp;
@@ -96,7 +98,7 @@ export function installBootRom(board, { uniqueId }) {
   // Not `loadBootrom`: it also resets the chip and erases the flash image.
   rp.bootrom.set(new Uint32Array(rom.buffer));
 
-  const state = { usbBoot: null, flashOps: [] };
+  const state = { usbBoot: null, flashOps: [], eraseUsPerSector: ERASE_US_PER_SECTOR };
   const reg = (n) => rp.core.registers[n] >>> 0;
   const flash = rp.flash;
   const checkRange = (offset, length, what) => {
@@ -114,7 +116,7 @@ export function installBootRom(board, { uniqueId }) {
         checkRange(offset, length, 'erase');
         flash.fill(0xff, offset, offset + length);
         state.flashOps.push({ op: 'erase', offset, length, timeUs: board.timeUs });
-        board.holdCpu((length / 4096) * ERASE_US_PER_SECTOR);
+        board.holdCpu((length / 4096) * state.eraseUsPerSector);
         return;
       }
       case BKPT.program: {

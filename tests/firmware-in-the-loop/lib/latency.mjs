@@ -60,12 +60,14 @@ export function reportStaleness(packets, reports, paddle) {
   return out;
 }
 
-/** Worst, median and count of a list of numbers. */
+/** Worst, 99th percentile, median and count of a list of numbers. */
 export function summary(values) {
   const sorted = [...values].sort((a, b) => a - b);
+  const at = (q) => (sorted.length ? sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))] : null);
   return {
     count: sorted.length,
     worst: sorted.length ? sorted[sorted.length - 1] : null,
-    median: sorted.length ? sorted[Math.floor(sorted.length / 2)] : null,
+    p99: at(0.99),
+    median: at(0.5),
   };
 }

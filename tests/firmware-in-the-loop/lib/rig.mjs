@@ -38,10 +38,10 @@ export function firmwareUf2Path(elfPath = firmwareElfPath()) {
 /**
  * @param {{ elfPath?: string, uf2Path?: string, printLog?: boolean,
  *           mouse?: (port: number) => object, uniqueId?: number[],
- *           flashImage?: Uint8Array }} options
+ *           flashImage?: Uint8Array, sramImage?: Uint8Array }} options
  *   mouse: extra `Ps2Mouse` options per port (clock, timing, sample clock)
  *   uf2Path: boot from this UF2's flash image (the ELF still gives the symbols)
- *   uniqueId, flashImage: see `Board`
+ *   uniqueId, flashImage, sramImage: see `Board`
  */
 export function createRig({
   elfPath = firmwareElfPath(),
@@ -50,6 +50,7 @@ export function createRig({
   mouse = () => ({}),
   uniqueId,
   flashImage,
+  sramImage,
 } = {}) {
   if (!existsSync(elfPath)) {
     throw new Error(
@@ -64,6 +65,7 @@ export function createRig({
     uf2Path,
     uniqueId,
     flashImage,
+    sramImage,
     onLog: printLog
       ? (m) => console.log(`[fw ${(m.timeUs / 1000).toFixed(3).padStart(9)} ms] ${m.level.padEnd(5)} ${m.text}`)
       : undefined,

@@ -1,8 +1,11 @@
 // A USB host for rp2040js's device controller: bus reset, control transfers (setup,
 // data and status stages, each transfer with a timeout), enumeration of the HID
-// sensor board, and the interrupt endpoints serviced once per 1 ms frame: the IN
-// endpoint is polled (the device's armed IN buffer is only taken at a frame, as a
-// real host's IN token would), the OUT endpoint gets queued reports.
+// sensor board, and 1 ms frames: each starts with a start-of-frame (SOF: the frame
+// number in SOF_RD and the DEV_SOF interrupt), the OUT endpoint gets queued reports,
+// and the IN endpoint is polled by one IN token in the frame, at the frame's start or
+// moved by the host's jitter (`setTokenTiming`: real host controllers, hubs and other
+// devices on the bus move it). A token that finds no armed IN buffer is NAKed and
+// counted (`naks`).
 //
 // rp2040js models the device side only: the device arming an IN buffer becomes
 // `onEndpointWrite(ep, data)` 10 µs later, `sendSetupPacket` delivers a SETUP. The
@@ -14,6 +17,8 @@ const EP0_IN_BUFFER_CONTROL = 0x80;
 const EP15_OUT_BUFFER_CONTROL = 0xfc;
 const BUF_AVAILABLE = 1 << 10;
 const FRAME_NS = 1_000_000;
+const SOF_RD = 0x48;
+const INTR_DEV_SOF = 1 << 17;
 const EP_ABORT = 0x60;
 const SIE_STATUS = 0x50;
 const SIE_SUSPENDED = 1 << 4;
@@ -58,8 +63,54 @@ export class UsbHost {
     this.inReports = [];
     this.outSent = [];
     this.frame = 0;
+    /** Frames (SOF) run: from `startPolling` until a suspend or a re-enumeration. */
+    this.framing = false;
+    /** IN tokens are sent in the frames. */
     this.polling = false;
+    /** IN tokens NAKed (no armed IN buffer, or the endpoint aborted): { timeUs, frame }. */
+    this.naks = [];
+    /** IN tokens sent. */
+    this.tokens = 0;
+    this.setTokenTiming({ kind: 'fixed' });
     this.install();
+  }
+
+  /**
+   * Where in each frame the host sends its IN token:
+   * - `{ kind: 'fixed' }`: at the frame's start (a host with no other traffic);
+   * - `{ kind: 'uniform', maxUs }`: uniformly 0 … maxUs µs after it;
+   * - `{ kind: 'steps', stepsUs }`: at one of these offsets, each as likely (a
+   *   full-speed device behind a high-speed hub: 125 µs microframes);
+   * and with `skipOneIn: n`, no token at all in one frame of n on average. Offsets come
+   * from a seeded generator (`seed`), so a run is reproducible.
+   */
+  setTokenTiming({ kind, maxUs = 0, stepsUs = [0], skipOneIn = 0, seed = 1 }) {
+    if (!['fixed', 'uniform', 'steps'].includes(kind)) {
+      throw new Error(`unknown token timing ${kind}`);
+    }
+    this.tokenTiming = { kind, maxUs, stepsUs, skipOneIn };
+    let state = seed >>> 0;
+    // mulberry32: a small, well-mixed 32-bit generator.
+    this.random = () => {
+      state = (state + 0x6d2b79f5) >>> 0;
+      let t = state;
+      t = Math.imul(t ^ (t >>> 15), t | 1);
+      t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
+      return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
+    };
+  }
+
+  /** This frame's token offset from its start (ns), or null for a skipped frame. */
+  tokenOffsetNs() {
+    const { kind, maxUs, stepsUs, skipOneIn } = this.tokenTiming;
+    if (kind === 'fixed') {
+      return 0;
+    }
+    if (skipOneIn > 0 && this.random() * skipOneIn < 1) {
+      return null;
+    }
+    const us = kind === 'uniform' ? this.random() * maxUs : stepsUs[Math.floor(this.random() * stepsUs.length)];
+    return Math.round(us * 1000);
   }
 
   install() {
@@ -71,6 +122,16 @@ export class UsbHost {
       this.resetDone = true;
     };
     usb.onEndpointWrite = (endpoint, buffer) => this.onDeviceIn(endpoint, buffer);
+    // Reading SOF_RD clears DEV_SOF on the RP2040; rp2040js has no device-side SOF.
+    const readRegister = usb.readUint32.bind(usb);
+    usb.readUint32 = (offset) => {
+      const value = readRegister(offset);
+      if (offset === SOF_RD && usb.intRaw & INTR_DEV_SOF) {
+        usb.intRaw &= ~INTR_DEV_SOF;
+        usb.checkInterrupts();
+      }
+      return value;
+    };
     // Buffer arming. rp2040js clears AVAILABLE as soon as the firmware arms a
     // buffer; for OUT buffers that reads as "packet received" to a driver that
     // polls AVAILABLE (embassy-rp does), so OUT arming is kept here with AVAILABLE
@@ -116,6 +177,7 @@ export class UsbHost {
       original(offset, value);
     };
     this.frameAlarm = this.board.clock.createAlarm(() => this.onFrame());
+    this.tokenAlarm = this.board.clock.createAlarm(() => this.onToken());
   }
 
   // ---- device → host callbacks ---------------------------------------------
@@ -189,27 +251,34 @@ export class UsbHost {
 
   // ---- frames: interrupt endpoints -----------------------------------------
 
-  /** Starts the 1 ms frames (interrupt IN polling, OUT delivery). */
+  /** Starts the 1 ms frames (SOF, OUT delivery) if they are not running, and the IN
+   *  tokens in them. */
   startPolling() {
-    if (!this.polling) {
-      this.polling = true;
+    this.polling = true;
+    if (!this.framing) {
+      this.framing = true;
       this.frameAlarm.schedule(FRAME_NS);
     }
   }
 
+  /** Stops the IN tokens (the host's driver pauses); the frames go on (SOF, OUT). */
   stopPolling() {
     this.polling = false;
+    this.tokenAlarm.cancel();
+  }
+
+  /** Stops the frames altogether (a suspended or reset bus). */
+  stopFrames() {
+    this.stopPolling();
+    this.framing = false;
     this.frameAlarm.cancel();
   }
 
   onFrame() {
     this.frame++;
-    const aborted = this.epAbort & (1 << (this.inEndpoint * 2));
-    if (this.pendingIn && !aborted) {
-      const { offset, value } = this.pendingIn;
-      this.pendingIn = null;
-      this.releaseIn(offset, value);
-    }
+    this.usb.sofFrameNumber = this.frame & 0x7ff;
+    this.usb.intRaw |= INTR_DEV_SOF;
+    this.usb.checkInterrupts();
     if (this.outQueue.length > 0 && this.outArmed > 0) {
       const data = this.outQueue.shift();
       this.outArmed = 0;
@@ -217,7 +286,29 @@ export class UsbHost {
       this.deliverOut(this.outEndpoint, data);
     }
     if (this.polling) {
-      this.frameAlarm.schedule(FRAME_NS);
+      const offset = this.tokenOffsetNs();
+      if (offset === 0) {
+        this.onToken();
+      } else if (offset !== null) {
+        this.tokenAlarm.schedule(offset);
+      }
+    }
+    this.frameAlarm.schedule(FRAME_NS);
+  }
+
+  /** The host's IN token: the armed buffer is taken, or the token is NAKed. */
+  onToken() {
+    if (!this.polling) {
+      return;
+    }
+    this.tokens++;
+    const aborted = this.epAbort & (1 << (this.inEndpoint * 2));
+    if (this.pendingIn && !aborted) {
+      const { offset, value } = this.pendingIn;
+      this.pendingIn = null;
+      this.releaseIn(offset, value);
+    } else {
+      this.naks.push({ timeUs: this.board.timeUs, frame: this.frame });
     }
   }
 
@@ -227,7 +318,7 @@ export class UsbHost {
    * armed is gone, then the whole enumeration runs (see `enumerate`).
    */
   reenumerate(options) {
-    this.stopPolling();
+    this.stopFrames();
     this.pendingIn = null;
     this.outArmed = 0;
     this.ep0OutArmed = false;
@@ -239,7 +330,7 @@ export class UsbHost {
   /** Suspends the bus: no more frames (no SOF, no IN tokens); the device sees the
    *  suspend state (SIE_STATUS.SUSPENDED, DEV_SUSPEND interrupt). */
   suspend() {
-    this.stopPolling();
+    this.stopFrames();
     this.usb.sieStatus |= SIE_SUSPENDED;
     this.usb.sieStatusUpdated();
   }

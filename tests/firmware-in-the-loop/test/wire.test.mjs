@@ -143,39 +143,26 @@ describe('realistic mice on the wire', () => {
     assert.ok(flagged > 0, 'parity errors are flagged');
   });
 
-  it('an RX FIFO overflow is counted, flagged and recovered from', (t) => {
+  it('frames that arrive while the CPU is held wait in the receive ring: none lost, nothing stalls', (t) => {
     const { board, mice } = rig;
     const port = 5;
     const mouse = mice[port];
     const logFrom = board.log.length;
     const reportFrom = rig.host.inReports.length;
-    // The mouse sends two packets back to back (six frames, ≈ 6 ms at its clock)
-    // while the CPU is held for 8 ms: the 4-word RX FIFO fills and the program
-    // stalls on its push.
+    // The mouse sends two packets back to back (six frames, ≈ 6 ms at its clock) while
+    // the CPU is held for 80 ms (a flash erase with interrupts off, within the
+    // watchdog's 100 ms): the 4-word RX FIFO alone would overflow and stall.
     mouse.move(255, 0);
     mouse.move(255, 0);
-    board.holdCpu(8_000);
-    board.runUs(60_000);
-    const stalls = board.logMatching(new RegExp(`port ${port}: RX FIFO stalled`), logFrom);
-    t.diagnostic(`${stalls.length} RX FIFO stall(s) on port ${port}`);
-    assert.ok(stalls.length >= 1, 'the stall is seen and logged');
-    const others = board.logMatching(/RX FIFO stalled/, logFrom).filter((m) => !m.text.startsWith(`port ${port}:`));
-    assert.deepEqual(others, [], 'only the port that overflowed');
+    board.holdCpu(80_000);
+    board.runUs(120_000);
+    assert.deepEqual(board.logMatching(/RX FIFO stalled/, logFrom), [], 'no receiver stalled');
     const reports = rig.reports(reportFrom);
-    assert.ok(reports.some((r) => r.paddles[port].status & STATUS.FRAMING_ERROR), 'flagged as lost bytes');
-    assert.ok(reports.every((r) => r.paddles[port].status & STATUS.PRESENT), 'stays present');
+    assert.ok(reports.every((r) => r.paddles[port].status === STATUS.PRESENT), 'present, no error flags');
     const held = reports.reduce((s, r) => s + r.paddles[port].axial, 0);
     t.diagnostic(`${held} of the 510 counts sent during the hold arrived`);
-    // The frames queued before the stall are delivered, the packet under way is
-    // asked for again: less than one packet lost.
-    assert.ok(held > 510 - 255 && held <= 510, `${held} of 510 counts`);
-    // Recovered: ordinary motion arrives exactly.
-    const motionFrom = rig.host.inReports.length;
-    mouse.move(77, -31);
-    board.runUs(30_000);
-    const after = rig.reports(motionFrom);
-    assert.equal(after.reduce((s, r) => s + r.paddles[port].axial, 0), 77);
-    assert.equal(after.reduce((s, r) => s + r.paddles[port].rotation, 0), -31);
+    assert.equal(held, 510);
+    assert.equal(board.watchdogResets, 0);
   });
 
   it('a line stuck low is reported as a wiring fault, not as an unplugged mouse', (t) => {

@@ -45,7 +45,10 @@
 //! mouse is alive and cancels the verdict.
 //!
 //! **Packet framing.** Byte 0 of a packet always has bit 3 set; a byte without it
-//! where byte 0 is expected is dropped (resynchronisation). A partial packet whose next
+//! where byte 0 is expected is dropped (resynchronisation). A command that goes out
+//! while a packet is partly received cuts it short: the mouse answers the command and
+//! then sends that motion again, so the partial packet is dropped when the command is
+//! sent. A partial packet whose next
 //! byte is later than [`INTER_BYTE_TIMEOUT_US`] is dropped. A garbled frame (framing or
 //! parity error) sets its sticky error event, drops the partial packet and asks for
 //! it again with `0xFE`, which makes the mouse send its last packet again; after
@@ -336,6 +339,13 @@ impl MouseDriver {
         match result {
             // The mouse has the byte: the spec's reply time runs from now.
             Ok(()) => {
+                if self.state == DriverState::Streaming && self.packet_len > 0 {
+                    // The request-to-send cut a packet short: the mouse answers the
+                    // command first and sends that motion again after it, so the bytes
+                    // so far would only pair with the answer.
+                    self.clear_packet();
+                    self.stats.resyncs = self.stats.resyncs.wrapping_add(1);
+                }
                 self.phase = Phase::AwaitReply {
                     deadline: now_us.saturating_add(self.config.reply_timeout_us),
                 };
