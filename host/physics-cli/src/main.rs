@@ -25,6 +25,7 @@ macro_rules! out {
 
 mod accuracy;
 mod bodies;
+mod cpu_clock;
 mod effects;
 mod exit;
 mod figure;
@@ -197,6 +198,7 @@ enum Cmd {
 }
 
 fn main() -> ExitCode {
+    cpu_clock::install();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => return usage(&e),

@@ -17,16 +17,13 @@
 //!   shapes of one link on a cylindrical joint;
 //! * **ball**: a dynamic sphere.
 
+use super::parts::{ROD_RADIUS_M, WALL_THICKNESS_M};
 use super::rods;
 use super::{ArenaError, ArenaSettings};
 use crate::table::Table;
 use virtual_physics::geometry::{Material, Shape, M3, V3};
 use virtual_physics::pipeline::{BodyBuilder, BodyHandle, TreeHandle, World};
 
-/// Wall thickness, m: thick against tunnelling (the ball moves at most ~2 cm per step).
-pub const WALL_THICKNESS_M: f64 = 0.05;
-/// Radius of the steel rods, m (16 mm rods).
-pub const ROD_RADIUS_M: f64 = 0.008;
 /// Gap around a rod where it passes through a side wall, m: more than the speculative
 /// contact distance, so a bar spinning in its slot does not touch the wall.
 pub(crate) const ROD_SLOT_GAP_M: f64 = 0.008;
@@ -56,17 +53,6 @@ pub(crate) struct Built {
     pub(crate) rod_bodies: Vec<BodyHandle>,
     /// The ball.
     pub(crate) ball: BodyHandle,
-}
-
-/// Rotation about `+y` by `angle` (rad): the rod's turn (0 = feet down).
-pub fn rot_y(angle: f64) -> M3 {
-    let (s, c) = virtual_physics::transcendental::sin_cos(angle);
-    M3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c)
-}
-
-/// Rotation taking the body `z` axis to the table's `+y` (cylinders lie along body `z`).
-pub fn z_to_y_rotation() -> M3 {
-    M3::new(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0)
 }
 
 /// The materials of the arena, from the table's ball and the settings.
@@ -178,44 +164,35 @@ pub fn cover_height_m(table: &Table) -> f64 {
 
 /// The physical shapes of one man, man frame: `(shape, centre, orientation)`.
 ///
-/// The character's two boxes ([`crate::table::CharacterParams::boxes`]: body, leg),
-/// except that the leg's sole is rounded: the leg box stops `r` above the sole and a
-/// capsule of radius `r = body_depth / 2` lying along the rod (`y`, as wide as the
-/// foot) makes the sole, its bottom exactly at the foot reach. A foot that comes down
-/// on the ball then squeezes it out sideways (the contact normal points from the
-/// rounded sole to the ball's centre) instead of pressing it flat into the cloth, which
-/// a flat kinematic sole does. The drawn men (square soles) differ only in the two
-/// sole edges, by at most `r (1 − 1/√2)` ≈ 2 mm.
-pub fn man_shapes(character: &crate::table::CharacterParams) -> Vec<(Shape, V3, M3)> {
-    let [body, leg] = character.boxes();
-    let r = 0.5 * character.body_depth_m;
-    let sole_centre_z = -character.foot_reach_m + r;
-    let leg_top = leg.centre[2] + leg.half_extents[2];
-    let leg_half_z = 0.5 * (leg_top - sole_centre_z);
-    vec![
-        (
-            Shape::Cuboid {
-                half: V3::from(body.half_extents),
-            },
-            V3::from(body.centre),
-            M3::identity(),
-        ),
-        (
-            Shape::Cuboid {
-                half: V3::new(leg.half_extents[0], leg.half_extents[1], leg_half_z),
-            },
-            V3::new(leg.centre[0], leg.centre[1], sole_centre_z + leg_half_z),
-            M3::identity(),
-        ),
-        (
-            Shape::Capsule {
-                radius: r,
-                half_height: (leg.half_extents[1] - r).max(0.0),
-            },
-            V3::new(leg.centre[0], leg.centre[1], sole_centre_z),
-            z_to_y_rotation(),
-        ),
-    ]
+/// The two corner ramps at end `sx` (−1: Home's end, +1: Away's) of a field of half
+/// length `hl` and half width `hw` (m): fixed boxes whose top faces are the planes rising
+/// from the field to the ramp's height at the corner.
+fn corner_ramps(
+    b: &mut Builder<'_>,
+    f: &crate::table::Field,
+    sx: f64,
+    hl: f64,
+    hw: f64,
+    m: &Materials,
+) {
+    if f.corner_ramp_m > 0.0 && f.corner_ramp_height_m > 0.0 {
+        for sy in [-1.0f64, 1.0] {
+            let (r, h) = (f.corner_ramp_m, f.corner_ramp_height_m);
+            let n = V3::new(-sx * h / r, -sy * h / r, 1.0).normalize();
+            let x_axis = V3::new(sx, -sy, 0.0).normalize();
+            let y_axis = n.cross(&x_axis);
+            let rot = M3::from_columns(&[x_axis, y_axis, n]);
+            // A point of the ramp plane above the centroid of its corner triangle.
+            let on_plane = V3::new(sx * (hl - r / 3.0), sy * (hw - r / 3.0), h / 3.0);
+            let centre = on_plane - n * RAMP_HALF_THICKNESS_M;
+            b.fixed_box(
+                centre,
+                V3::new(1.5 * r, 1.5 * r, RAMP_HALF_THICKNESS_M),
+                rot,
+                m.wall,
+            );
+        }
+    }
 }
 
 /// Builds the table into the empty `world`: fixed geometry, one tree per rod (centred,
@@ -308,25 +285,7 @@ pub(crate) fn build(
             V3::new(gx1, gw + t, gh + t),
             m.goal,
         );
-        // Corner ramps.
-        if f.corner_ramp_m > 0.0 && f.corner_ramp_height_m > 0.0 {
-            for sy in [-1.0f64, 1.0] {
-                let (r, h) = (f.corner_ramp_m, f.corner_ramp_height_m);
-                let n = V3::new(-sx * h / r, -sy * h / r, 1.0).normalize();
-                let x_axis = V3::new(sx, -sy, 0.0).normalize();
-                let y_axis = n.cross(&x_axis);
-                let rot = M3::from_columns(&[x_axis, y_axis, n]);
-                // A point of the ramp plane above the centroid of its corner triangle.
-                let on_plane = V3::new(sx * (hl - r / 3.0), sy * (hw - r / 3.0), h / 3.0);
-                let centre = on_plane - n * RAMP_HALF_THICKNESS_M;
-                b.fixed_box(
-                    centre,
-                    V3::new(1.5 * r, 1.5 * r, RAMP_HALF_THICKNESS_M),
-                    rot,
-                    m.wall,
-                );
-            }
-        }
+        corner_ramps(&mut b, f, sx, hl, hw, &m);
     }
     let r = table.ball.radius_m();
     let ball = b.world.insert_body(

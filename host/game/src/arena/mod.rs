@@ -23,10 +23,12 @@
 pub mod build;
 pub mod contacts;
 pub mod drive;
+pub mod parts;
 pub mod rods;
 
-pub use build::{BodyRole, ROD_RADIUS_M, WALL_THICKNESS_M};
+pub use build::BodyRole;
 pub use drive::RodDrive;
+pub use parts::{ROD_RADIUS_M, WALL_THICKNESS_M};
 
 use crate::ai::RodTarget;
 use crate::rules::{BallState, Contact};

@@ -7,7 +7,7 @@
 //! along `+y` (m, 0 = centred). The link carries the steel bar (a capsule: its rounded ends
 //! lie in or beyond the side walls at every slide, where the ball never reaches, and the
 //! engine tests a capsule against the walls' boxes in closed form) and every man's
-//! shapes ([`super::build::man_shapes`]) — several shapes on one link make it a compound
+//! shapes ([`super::parts::man_shapes`]) — several shapes on one link make it a compound
 //! body; each man hangs from his shoulder on the rod axis. The link's mass and inertia are
 //! the bar's and the men's, summed by [`Compound::new`].
 //!
@@ -19,7 +19,7 @@
 //! goalkeeper rod and a heavy five-man rod follow the hand alike. The slide's travel ends
 //! are the drive's limits.
 
-use super::build::{man_shapes, ROD_RADIUS_M, WALL_THICKNESS_M};
+use super::parts::{man_shapes, z_to_y_rotation, ROD_RADIUS_M, WALL_THICKNESS_M};
 use super::{ArenaError, ArenaSettings, GRAVITY_M_PER_S2};
 use crate::table::Table;
 use virtual_physics::algebra::{Inertia, Sym3, Vec3, SE3};
@@ -59,7 +59,7 @@ fn parts(table: &Table, rod: usize, man: Material) -> Vec<PartDesc> {
             radius: ROD_RADIUS_M,
             half_height: half - ROD_RADIUS_M,
         },
-        pose: SE3::new(super::build::z_to_y_rotation(), Vec3::zeros()),
+        pose: SE3::new(z_to_y_rotation(), Vec3::zeros()),
         mass: bar_mass,
         material: man,
     }];

@@ -315,6 +315,14 @@ impl Table {
                 return Err(TableError::Inconsistent(format!("{side:?} has no rods")));
             }
         }
+        self.validate_rods()
+    }
+
+    /// The rods' part of [`Table::validate`]: at most one per board port, inside the
+    /// field in order along `x`, their men within range, not overlapping and fitting the
+    /// width over their travel.
+    fn validate_rods(&self) -> Result<(), TableError> {
+        let f = &self.field;
         if self.rods.len() > PADDLES {
             return Err(TableError::Inconsistent(format!(
                 "{} rods: at most {PADDLES}, one per board port",

@@ -149,7 +149,14 @@ pub fn aba<T: Real>(
         }
     }
 
-    // 3. Forward recursion: joint and body accelerations.
+    accelerations(model, ws, qdd);
+    Ok(())
+}
+
+/// Pass 3 of [`aba`], forward: each joint's `q̈` into `qdd` and each body's `V̇` into the
+/// workspace, from the articulated inertias and bias forces of pass 2.
+fn accelerations<T: Real>(model: &ArticulatedTree<T>, ws: &mut Workspace<T>, qdd: &mut [T]) {
+    let bodies = model.bodies();
     let g = model.gravity();
     let a0 = se3::new(Vec3::zeros(), -g);
     for (i, body) in bodies.iter().enumerate() {
@@ -187,7 +194,6 @@ pub fn aba<T: Real>(
             }
         };
     }
-    Ok(())
 }
 
 /// `x > 0` (false for NaN).

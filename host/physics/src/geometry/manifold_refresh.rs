@@ -21,7 +21,7 @@
 //! 0.7 mm at a tenth of a millimetre (`vphys bench pyramid-1240 --steps 300 --sleeping
 //! false`).
 
-use super::narrow_phase::PosedPart;
+use super::posed_part::PosedPart;
 use super::{Manifold, Shape, M3, V3};
 
 /// Largest motion (m) of any point of B relative to A for which a manifold is refreshed.

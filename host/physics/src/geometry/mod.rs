@@ -23,6 +23,7 @@ pub mod contact;
 mod manifold_refresh;
 mod material;
 pub mod narrow_phase;
+mod posed_part;
 pub mod primitives;
 pub mod shape;
 pub mod toi;

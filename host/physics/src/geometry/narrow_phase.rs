@@ -12,6 +12,7 @@
 
 use super::box_box::{box_box, BoxPose};
 use super::manifold_refresh;
+use super::posed_part::PosedPart;
 use super::primitives as p;
 use super::{Aabb, CollisionBodies, Manifold, Shape, M3, V3};
 
@@ -301,16 +302,6 @@ pub fn collide(
         _ => return None,
     };
     Some(hit)
-}
-
-/// One primitive of a body, posed in the world.
-pub(super) struct PosedPart<'a> {
-    pub(super) index: u16,
-    pub(super) shape: &'a Shape,
-    /// World from part rotation.
-    pub(super) rot: M3,
-    /// Centre (m, world).
-    pub(super) pos: V3,
 }
 
 /// Part `index` of a shape: a compound's part, or the shape itself.

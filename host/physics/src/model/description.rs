@@ -15,43 +15,11 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use super::joint_description::JointDescription;
 use super::joints::from_description;
 use super::{ArticulatedTree, ModelError};
 use crate::algebra::{Inertia, Mat3, Sym3, Vec3, SE3};
 use crate::Real;
-
-/// A joint: its type name and axes.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct JointDescription {
-    /// Type name (`revolute`, `prismatic`, `cylindrical`, `universal`, `ball`, `free`, `fixed`).
-    #[serde(rename = "type")]
-    pub kind: String,
-    /// The (first) axis, joint frame.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axis: Option<[f64; 3]>,
-    /// The second axis (universal joint).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axis2: Option<[f64; 3]>,
-}
-
-impl JointDescription {
-    /// A joint type without axes.
-    pub fn new(kind: &str) -> Self {
-        Self {
-            kind: kind.to_string(),
-            axis: None,
-            axis2: None,
-        }
-    }
-
-    /// A joint type with one axis.
-    pub fn with_axis(kind: &str, axis: [f64; 3]) -> Self {
-        Self {
-            axis: Some(axis),
-            ..Self::new(kind)
-        }
-    }
-}
 
 /// A rigid transform: row-major rotation and translation (m).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -13,6 +13,7 @@ mod body;
 pub mod builders;
 pub mod description;
 mod error;
+mod joint_description;
 pub mod joints;
 mod tree;
 

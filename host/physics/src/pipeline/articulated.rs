@@ -9,15 +9,15 @@
 //! | kind | tree step |
 //! |---|---|
 //! | `explicit-euler` | `q ← q ⊞ h q̇`, then `q̇ += h q̈(q₀, q̇₀)` |
-//! | `symplectic-euler` (default), `implicit-gyroscopic` | linearly implicit Euler: `(M + h D + h² K) Δq̇ = h (τ − bias)` at `q ⊞ h q̇`, `q̇ += Δq̇`, then `q ← q ⊞ h q̇` — `D`, `K` the velocity and position Jacobians of the bias forces (Coriolis, centrifugal, gyroscopic, gravity), O(n) by an articulated-body recursion (`pipeline/implicit_step.rs`) |
+//! | `symplectic-euler` (default), `implicit-gyroscopic` | linearly implicit Euler: `(M + h D + h² K) Δq̇ = h (τ − bias)` at `q ⊞ h q̇`, `q̇ += Δq̇`, then `q ← q ⊞ h q̇` — `D`, `K` the velocity and position Jacobians of the bias forces (Coriolis, centrifugal, gyroscopic, gravity), O(n) by an articulated-body recursion (`pipeline/articulated/implicit_step.rs`) |
 //! | `rkmk4` | RK4 on `(θ, q̇)` in the chart (Munthe-Kaas), 4 ABA calls |
 //! | `energy-momentum` | implicit midpoint `q̇₁ = q̇₀ + h q̈(q₀ ⊞ (h/2) q̇_m, q̇_m)`, `q ← q₀ ⊞ h q̇_m`, fixed-point iterations (symmetric, second order; exact energy is a free-body property) |
 
-#[path = "implicit_step.rs"]
+mod drive_rows;
 mod implicit_step;
-#[path = "tree_energy.rs"]
 mod tree_energy;
 
+use super::drives::{Drive, DriveKind};
 use super::integrator::dexp_inv_right;
 use super::inverse_mass::InverseMassCache;
 use super::IntegratorKind;
@@ -82,7 +82,7 @@ pub struct ArticulatedSystem {
     /// Collision shapes fixed on links (link frame): such a tree touches the world's bodies.
     pub(crate) link_shapes: Vec<LinkShape>,
     /// Motors, limits and prescribed coordinates.
-    pub(crate) drives: Vec<super::drives::Drive>,
+    pub(crate) drives: Vec<Drive>,
     qdd: Vec<f64>,
     joints: Vec<(Chart, usize, usize)>,
     /// Per velocity coordinate, its configuration coordinate when the joint moves additively.
@@ -201,10 +201,10 @@ impl ArticulatedSystem {
         matches!(
             self.integrator,
             IntegratorKind::SymplecticEuler | IntegratorKind::ImplicitGyroscopic
-        ) && self.drives.iter().all(|d| {
-            matches!(d.kind, super::drives::DriveKind::Prescribed(_))
-                && self.q_of_dof(d.dof).is_some()
-        })
+        ) && self
+            .drives
+            .iter()
+            .all(|d| matches!(d.kind, DriveKind::Prescribed(_)) && self.q_of_dof(d.dof).is_some())
     }
 
     /// One step of `h` seconds ending at world time `t_end` (s): [`step`](Self::step), with
@@ -215,7 +215,7 @@ impl ArticulatedSystem {
             return self.step(h);
         }
         // A tree under prescribed motion holds the energy balance of its linearly implicit
-        // step (`pipeline/tree_energy.rs`); a tree with no drive is left to the step alone.
+        // step (`pipeline/articulated/tree_energy.rs`); a tree with no drive is left to the step alone.
         let e0 = matches!(
             self.integrator,
             IntegratorKind::SymplecticEuler | IntegratorKind::ImplicitGyroscopic
@@ -224,9 +224,7 @@ impl ArticulatedSystem {
         let mut given = std::mem::take(&mut self.given);
         given.clear();
         for d in &self.drives {
-            if let (super::drives::DriveKind::Prescribed(traj), Some(q)) =
-                (&d.kind, self.q_of_dof(d.dof))
-            {
+            if let (DriveKind::Prescribed(traj), Some(q)) = (&d.kind, self.q_of_dof(d.dof)) {
                 given.push((d.dof, (traj.at(t_end) - q) / h - self.qd[d.dof]));
             }
         }
@@ -245,7 +243,7 @@ impl ArticulatedSystem {
         Ok(())
     }
 
-    /// The linearly implicit velocity update (`pipeline/implicit_step.rs`), linearised at
+    /// The linearly implicit velocity update (`pipeline/articulated/implicit_step.rs`), linearised at
     /// the predicted configuration `q ⊞ h q̇` (where `q ⊞ h q̇_new` lands to first order):
     /// `(M + h D + h² K) Δq̇ = h (τ − bias)`, `q̇ += Δq̇`; `q` is left where it was. The
     /// coordinates in `self.given` change by the given amounts; what that took is left in

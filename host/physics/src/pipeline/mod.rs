@@ -42,6 +42,7 @@ mod step;
 mod step_guard;
 mod substep_plan;
 mod warm_start_replay;
+mod world_guard;
 
 pub use body_builder::{BodyBuilder, DEFAULT_DENSITY};
 pub use counters::{Stage, StepCounters};
@@ -54,8 +55,10 @@ pub use settings::SolverSettings;
 #[cfg(feature = "variants")]
 pub use settings::SolverVariants;
 pub use step::MAX_CONTACT_PAIRS_PER_BODY;
-pub use world::{BodyMut, BodyRef, Contact, World};
+pub use world::World;
+pub use world_bodies::{BodyMut, BodyRef};
 pub use world_builder::WorldBuilder;
+pub use world_contacts::Contact;
 pub use world_joints::{
     FreeJointKind, JointBuilder, JointError, JointKindError, JointMut, JointRef,
 };

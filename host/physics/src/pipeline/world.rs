@@ -18,9 +18,6 @@ use crate::dynamics::solver::{
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
 use crate::geometry::{BroadPhase, NarrowPhase, V3};
 
-pub use super::world_bodies::{BodyMut, BodyRef};
-pub use super::world_contacts::Contact;
-
 /// A simulated world.
 pub struct World {
     /// The rigid bodies.

@@ -9,11 +9,13 @@
 use std::collections::HashMap;
 use std::io::Read;
 
-use serde::de::{DeserializeSeed, IgnoredAny, MapAccess, SeqAccess, Visitor};
-
 use super::format::{BodyKindDesc, SceneFile, ShapeDesc};
 use super::{Problem, SceneError};
 use crate::pipeline::Effect;
+
+mod text_counts;
+mod trees;
+pub(crate) use text_counts::{check_counts, read_bounded, read_file};
 
 /// The ranges a scene's numbers must lie in (SI units), and the most entries of each list.
 ///
@@ -425,7 +427,52 @@ impl SceneFile {
             );
         }
 
-        // Bodies.
+        let names = self.body_problems(&mut r, &materials);
+
+        // Joints.
+        if !self.joints.is_empty() && !self.effects.contains(&Effect::Joints) {
+            r.add(
+                "joints",
+                format!(
+                    "{} joint(s) given but the 'joints' effect is not declared",
+                    self.joints.len()
+                ),
+            );
+        }
+        for (j, jd) in self.joints.iter().enumerate() {
+            let p = format!("joints[{j}]");
+            let lookup = |r: &mut Report, field: &str, name: &str| {
+                let i = names.get(name).copied();
+                if i.is_none() {
+                    r.add(format!("{p}.{field}"), format!("unknown body '{name}'"));
+                }
+                i
+            };
+            let b1 = lookup(&mut r, "body1", &jd.body1);
+            let b2 = lookup(&mut r, "body2", &jd.body2);
+            if let (Some(b1), Some(b2)) = (b1, b2) {
+                if b1 == b2 {
+                    r.add(&p, format!("joins body '{}' to itself", jd.body1));
+                } else if self.bodies[b1].kind != BodyKindDesc::Dynamic
+                    && self.bodies[b2].kind != BodyKindDesc::Dynamic
+                {
+                    r.add(&p, "at least one of the two bodies must be dynamic");
+                }
+            }
+            validate_joint(&mut r, &p, jd);
+        }
+
+        self.tree_problems(&mut r);
+        r.finish()
+    }
+
+    /// The problems of the scene's bodies, into `r` (`materials`: the declared
+    /// materials' indices by name); returns the named bodies' indices by name.
+    fn body_problems<'a>(
+        &'a self,
+        r: &mut Report,
+        materials: &HashMap<&str, usize>,
+    ) -> HashMap<&'a str, usize> {
         let mut names: HashMap<&str, usize> = HashMap::new();
         for (i, b) in self.bodies.iter().enumerate() {
             let p = format!("bodies[{i}]");
@@ -447,26 +494,26 @@ impl SceneFile {
             match &b.shape {
                 ShapeDesc::Box { half_extents } => {
                     for (k, h) in half_extents.iter().enumerate() {
-                        size(&mut r, format!("{sp}.half_extents[{k}]"), *h);
+                        size(r, format!("{sp}.half_extents[{k}]"), *h);
                     }
                 }
-                ShapeDesc::Sphere { radius } => size(&mut r, format!("{sp}.radius"), *radius),
+                ShapeDesc::Sphere { radius } => size(r, format!("{sp}.radius"), *radius),
                 ShapeDesc::Capsule {
                     radius,
                     half_height,
                 } => {
-                    size(&mut r, format!("{sp}.radius"), *radius);
+                    size(r, format!("{sp}.radius"), *radius);
                     // Zero is a sphere.
                     if *half_height != 0.0 {
-                        size(&mut r, format!("{sp}.half_height"), *half_height);
+                        size(r, format!("{sp}.half_height"), *half_height);
                     }
                 }
                 ShapeDesc::Cylinder {
                     radius,
                     half_height,
                 } => {
-                    size(&mut r, format!("{sp}.radius"), *radius);
-                    size(&mut r, format!("{sp}.half_height"), *half_height);
+                    size(r, format!("{sp}.radius"), *radius);
+                    size(r, format!("{sp}.half_height"), *half_height);
                 }
                 ShapeDesc::HalfSpace { normal } => {
                     r.direction(&format!("{sp}.normal"), normal);
@@ -478,7 +525,7 @@ impl SceneFile {
                     }
                 }
                 ShapeDesc::Compound { parts } => {
-                    sizes_ok &= compound_parts(&mut r, &sp, parts, b, &self.materials);
+                    sizes_ok &= compound_parts(r, &sp, parts, b, &self.materials);
                 }
             }
             match (b.kind, b.mass, b.density) {
@@ -552,600 +599,8 @@ impl SceneFile {
                 }
             }
         }
-
-        // Joints.
-        if !self.joints.is_empty() && !self.effects.contains(&Effect::Joints) {
-            r.add(
-                "joints",
-                format!(
-                    "{} joint(s) given but the 'joints' effect is not declared",
-                    self.joints.len()
-                ),
-            );
-        }
-        for (j, jd) in self.joints.iter().enumerate() {
-            let p = format!("joints[{j}]");
-            let lookup = |r: &mut Report, field: &str, name: &str| {
-                let i = names.get(name).copied();
-                if i.is_none() {
-                    r.add(format!("{p}.{field}"), format!("unknown body '{name}'"));
-                }
-                i
-            };
-            let b1 = lookup(&mut r, "body1", &jd.body1);
-            let b2 = lookup(&mut r, "body2", &jd.body2);
-            if let (Some(b1), Some(b2)) = (b1, b2) {
-                if b1 == b2 {
-                    r.add(&p, format!("joins body '{}' to itself", jd.body1));
-                } else if self.bodies[b1].kind != BodyKindDesc::Dynamic
-                    && self.bodies[b2].kind != BodyKindDesc::Dynamic
-                {
-                    r.add(&p, "at least one of the two bodies must be dynamic");
-                }
-            }
-            validate_joint(&mut r, &p, jd);
-        }
-
-        // Articulated trees.
-        if !self.articulated.is_empty() && !self.effects.contains(&Effect::Articulated) {
-            r.add(
-                "articulated",
-                format!(
-                    "{} articulated system(s) given but the 'articulated' effect is not declared",
-                    self.articulated.len()
-                ),
-            );
-        }
-        for (k, a) in self.articulated.iter().enumerate() {
-            let p = format!("articulated[{k}].model");
-            let before = r.problems.len() + r.more;
-            r.bounded3(
-                &format!("{p}.gravity"),
-                &a.model.gravity,
-                limits::GRAVITY_M_S2,
-                "m/s²",
-            );
-            let mut structural = false;
-            for (i, b) in a.model.bodies.iter().enumerate() {
-                let bp = format!("{p}.bodies[{i}]");
-                if let Some(par) = b.parent {
-                    if par >= i {
-                        r.add(
-                            format!("{bp}.parent"),
-                            format!(
-                                "unknown parent {par}: must be an earlier body (0 … {})",
-                                i as i64 - 1
-                            ),
-                        );
-                        structural = true;
-                    }
-                }
-                r.range(
-                    &format!("{bp}.inertia.mass"),
-                    b.inertia.mass,
-                    limits::MASS_KG,
-                    "kg",
-                );
-                r.coords3(
-                    &format!("{bp}.inertia.com"),
-                    &b.inertia.com,
-                    limits::SIZE_M.1,
-                    "m",
-                );
-                for (c, x) in b.inertia.inertia_com.iter().enumerate() {
-                    let ip = format!("{bp}.inertia.inertia_com[{c}]");
-                    if !x.is_finite() {
-                        r.add(ip, format!("must be finite, got {x}"));
-                    } else if x.abs() > limits::INERTIA_KG_M2 {
-                        r.add(
-                            ip,
-                            format!(
-                                "must be within {} … {} kg·m², got {}",
-                                num(-limits::INERTIA_KG_M2),
-                                num(limits::INERTIA_KG_M2),
-                                num(*x)
-                            ),
-                        );
-                    }
-                }
-                r.coords3(
-                    &format!("{bp}.placement.translation"),
-                    &b.placement.translation,
-                    limits::POSITION_M,
-                    "m",
-                );
-                for (row, v) in b.placement.rotation.iter().enumerate() {
-                    // Entries of a rotation matrix lie in [-1, 1]; the model checks the rest.
-                    r.coords3(
-                        &format!("{bp}.placement.rotation[{row}]"),
-                        v,
-                        1.0 + 1e-6,
-                        "",
-                    );
-                }
-                for (field, axis) in [("axis", &b.joint.axis), ("axis2", &b.joint.axis2)] {
-                    if let Some(ax) = axis {
-                        r.direction(&format!("{bp}.joint.{field}"), ax);
-                    }
-                }
-                if !matches!(
-                    b.joint.kind.as_str(),
-                    "revolute"
-                        | "prismatic"
-                        | "cylindrical"
-                        | "universal"
-                        | "ball"
-                        | "free"
-                        | "fixed"
-                ) {
-                    r.add(
-                        format!("{bp}.joint.type"),
-                        format!("unknown joint type '{}'", b.joint.kind),
-                    );
-                }
-            }
-            // The model is only built from numbers that passed.
-            structural |= r.problems.len() + r.more != before;
-            if structural {
-                continue;
-            }
-            match a.model.build::<f64>() {
-                Err(e) => r.add(&p, e.to_string()),
-                Ok(tree) => {
-                    let vectors = [
-                        ("q", &a.q, tree.nq(), "coordinates", limits::TREE_Q),
-                        ("qd", &a.qd, tree.nv(), "velocities", limits::TREE_QD),
-                    ];
-                    for (field, values, n, what, max) in vectors {
-                        let Some(values) = values else { continue };
-                        let vp = format!("articulated[{k}].{field}");
-                        if values.len() != n {
-                            r.add(
-                                &vp,
-                                format!("has {} values, the model has {n} {what}", values.len()),
-                            );
-                        }
-                        if let Some((c, x)) = values
-                            .iter()
-                            .enumerate()
-                            .find(|(_, x)| !(x.is_finite() && x.abs() <= max))
-                        {
-                            r.add(
-                                format!("{vp}[{c}]"),
-                                format!(
-                                    "must be finite and within {} … {}, got {}",
-                                    num(-max),
-                                    num(max),
-                                    num(*x)
-                                ),
-                            );
-                        }
-                    }
-                    tree_extras(&mut r, k, a, &tree, &self.materials);
-                }
-            }
-        }
-        r.finish()
+        names
     }
-}
-
-// ---------------------------------------------------------------------------------------
-// Counts on the JSON text, before the lists are built.
-
-/// The entries counted so far, and the first list that went over its limit.
-#[derive(Default)]
-struct Counts {
-    bodies: usize,
-    shapes: usize,
-    joints: usize,
-    materials: usize,
-    trees: usize,
-    /// Bodies of the current tree.
-    links: usize,
-    all_links: usize,
-    over: Option<SceneError>,
-}
-
-/// Which counter an entry adds to.
-type Counter = fn(&mut Counts) -> &mut usize;
-
-impl Counts {
-    /// Counts one more entry; past the limit, an error that stops the parse (the reason is
-    /// kept in `over`).
-    fn bump<E: serde::de::Error>(
-        &mut self,
-        which: Counter,
-        path: impl FnOnce() -> String,
-        what: &'static str,
-        limit: usize,
-    ) -> Result<(), E> {
-        let n = which(self);
-        *n += 1;
-        if *n > limit {
-            let at_least = *n;
-            self.over = Some(SceneError::TooMany {
-                path: path(),
-                what,
-                at_least,
-                limit,
-            });
-            return Err(E::custom("scene list over its limit"));
-        }
-        Ok(())
-    }
-}
-
-/// What a list's entries are.
-#[derive(Clone, Copy)]
-enum List {
-    Bodies,
-    Joints,
-    Materials,
-    Trees,
-    /// The bodies of tree `k`.
-    Links(usize),
-    /// The `shapes` of one body.
-    Shapes,
-}
-
-struct Top<'a>(&'a mut Counts);
-struct ListSeed<'a>(&'a mut Counts, List);
-struct Entry<'a>(&'a mut Counts, List);
-struct ModelSeed<'a>(&'a mut Counts, usize);
-/// A shape: counts itself, and a compound's parts (each part's `shape`) besides.
-struct ShapeSeed<'a>(&'a mut Counts);
-/// A compound's `parts`.
-struct PartsSeed<'a>(&'a mut Counts);
-/// One part: its `shape`.
-struct PartSeed<'a>(&'a mut Counts);
-
-impl<'de> DeserializeSeed<'de> for ShapeSeed<'_> {
-    type Value = ();
-    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
-        self.0.bump(
-            |c| &mut c.shapes,
-            || "bodies".into(),
-            "shapes",
-            limits::SHAPES,
-        )?;
-        d.deserialize_map(self)
-    }
-}
-
-impl<'de> Visitor<'de> for ShapeSeed<'_> {
-    type Value = ();
-    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        f.write_str("a shape")
-    }
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
-        while let Some(key) = map.next_key::<String>()? {
-            if key == "parts" {
-                map.next_value_seed(PartsSeed(&mut *self.0))?;
-            } else {
-                map.next_value::<IgnoredAny>()?;
-            }
-        }
-        Ok(())
-    }
-}
-
-impl<'de> DeserializeSeed<'de> for PartsSeed<'_> {
-    type Value = ();
-    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
-        d.deserialize_seq(self)
-    }
-}
-
-impl<'de> Visitor<'de> for PartsSeed<'_> {
-    type Value = ();
-    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        f.write_str("a list of parts")
-    }
-    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
-        while seq.next_element_seed(PartSeed(&mut *self.0))?.is_some() {}
-        Ok(())
-    }
-}
-
-impl<'de> DeserializeSeed<'de> for PartSeed<'_> {
-    type Value = ();
-    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
-        d.deserialize_map(self)
-    }
-}
-
-impl<'de> Visitor<'de> for PartSeed<'_> {
-    type Value = ();
-    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        f.write_str("a part")
-    }
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
-        while let Some(key) = map.next_key::<String>()? {
-            if key == "shape" {
-                map.next_value_seed(ShapeSeed(&mut *self.0))?;
-            } else {
-                map.next_value::<IgnoredAny>()?;
-            }
-        }
-        Ok(())
-    }
-}
-
-impl<'de> DeserializeSeed<'de> for Top<'_> {
-    type Value = ();
-    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
-        d.deserialize_map(self)
-    }
-}
-
-impl<'de> Visitor<'de> for Top<'_> {
-    type Value = ();
-    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        f.write_str("a scene object")
-    }
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
-        while let Some(key) = map.next_key::<String>()? {
-            let list = match key.as_str() {
-                "bodies" => List::Bodies,
-                "joints" => List::Joints,
-                "materials" => List::Materials,
-                "articulated" => List::Trees,
-                _ => {
-                    map.next_value::<IgnoredAny>()?;
-                    continue;
-                }
-            };
-            map.next_value_seed(ListSeed(&mut *self.0, list))?;
-        }
-        Ok(())
-    }
-}
-
-impl<'de> DeserializeSeed<'de> for ListSeed<'_> {
-    type Value = ();
-    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
-        d.deserialize_seq(self)
-    }
-}
-
-impl<'de> Visitor<'de> for ListSeed<'_> {
-    type Value = ();
-    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        f.write_str("a list")
-    }
-    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
-        if let List::Links(_) = self.1 {
-            self.0.links = 0;
-        }
-        // Each entry counts itself as it starts, so a list far over its limit stops at the
-        // first entry past it.
-        while seq
-            .next_element_seed(Entry(&mut *self.0, self.1))?
-            .is_some()
-        {}
-        Ok(())
-    }
-}
-
-impl<'de> DeserializeSeed<'de> for Entry<'_> {
-    type Value = ();
-    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
-        let c = self.0;
-        let ignore = |d: D| d.deserialize_ignored_any(IgnoredAny).map(|_| ());
-        match self.1 {
-            List::Bodies | List::Trees => d.deserialize_map(Entry(c, self.1)),
-            List::Shapes => {
-                c.bump(
-                    |c| &mut c.shapes,
-                    || "bodies".into(),
-                    "shapes",
-                    limits::SHAPES,
-                )?;
-                ignore(d)
-            }
-            List::Joints => {
-                c.bump(
-                    |c| &mut c.joints,
-                    || "joints".into(),
-                    "joints",
-                    limits::JOINTS,
-                )?;
-                ignore(d)
-            }
-            List::Materials => {
-                c.bump(
-                    |c| &mut c.materials,
-                    || "materials".into(),
-                    "materials",
-                    limits::MATERIALS,
-                )?;
-                ignore(d)
-            }
-            List::Links(k) => {
-                c.bump(
-                    |c| &mut c.links,
-                    || format!("articulated[{k}].model.bodies"),
-                    "bodies",
-                    limits::TREE_LINKS,
-                )?;
-                c.bump(
-                    |c| &mut c.all_links,
-                    || "articulated".into(),
-                    "tree bodies",
-                    limits::ALL_TREE_LINKS,
-                )?;
-                ignore(d)
-            }
-        }
-    }
-}
-
-impl<'de> Visitor<'de> for Entry<'_> {
-    type Value = ();
-    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        f.write_str("an object")
-    }
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
-        let c = self.0;
-        let tree = match self.1 {
-            List::Bodies => {
-                c.bump(
-                    |c| &mut c.bodies,
-                    || "bodies".into(),
-                    "bodies",
-                    limits::BODIES,
-                )?;
-                None
-            }
-            _ => {
-                c.bump(
-                    |c| &mut c.trees,
-                    || "articulated".into(),
-                    "articulated trees",
-                    limits::TREES,
-                )?;
-                Some(c.trees - 1)
-            }
-        };
-        while let Some(key) = map.next_key::<String>()? {
-            match (key.as_str(), tree) {
-                ("shape", None) => map.next_value_seed(ShapeSeed(&mut *c))?,
-                ("shapes", None) => map.next_value_seed(ListSeed(&mut *c, List::Shapes))?,
-                ("model", Some(k)) => map.next_value_seed(ModelSeed(&mut *c, k))?,
-                _ => {
-                    map.next_value::<IgnoredAny>()?;
-                }
-            }
-        }
-        Ok(())
-    }
-}
-
-impl<'de> DeserializeSeed<'de> for ModelSeed<'_> {
-    type Value = ();
-    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
-        d.deserialize_map(self)
-    }
-}
-
-impl<'de> Visitor<'de> for ModelSeed<'_> {
-    type Value = ();
-    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-        f.write_str("a model description")
-    }
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
-        while let Some(key) = map.next_key::<String>()? {
-            if key == "bodies" {
-                map.next_value_seed(ListSeed(&mut *self.0, List::Links(self.1)))?;
-            } else {
-                map.next_value::<IgnoredAny>()?;
-            }
-        }
-        Ok(())
-    }
-}
-
-/// Counts the lists of a scene's JSON text against [`limits`] without building them, and
-/// bounds the text's size. Text that is not JSON passes: serde's full parse reports it.
-pub(super) fn check_counts(text: &str) -> Result<(), SceneError> {
-    if text.len() > limits::SCENE_BYTES {
-        return Err(SceneError::TooLarge {
-            bytes: text.len() as u64,
-            limit: limits::SCENE_BYTES as u64,
-        });
-    }
-    let mut counts = Counts::default();
-    let mut de = serde_json::Deserializer::from_str(text);
-    let _ = Top(&mut counts).deserialize(&mut de);
-    match counts.over {
-        Some(e) => Err(e),
-        None => Ok(()),
-    }
-}
-
-/// A reader that keeps what it reads, up to [`limits::SCENE_BYTES`].
-struct Keep<R> {
-    inner: R,
-    kept: Vec<u8>,
-    too_large: bool,
-}
-
-impl<R: Read> Read for Keep<R> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        let n = self.inner.read(buf)?;
-        if self.kept.len() + n > limits::SCENE_BYTES {
-            self.too_large = true;
-            return Err(std::io::Error::other("scene text over its size limit"));
-        }
-        self.kept.extend_from_slice(&buf[..n]);
-        Ok(n)
-    }
-}
-
-/// Reads a scene's text from `reader` (named `source` in errors), counting its lists while
-/// reading: stops at the first list over its limit ([`SceneError::TooMany`]) or past
-/// [`limits::SCENE_BYTES`] ([`SceneError::TooLarge`]), so neither a huge file nor an
-/// endless stream is held in memory.
-pub(super) fn read_bounded(reader: impl Read, source: &str) -> Result<String, SceneError> {
-    let mut keep = Keep {
-        inner: reader,
-        kept: Vec::new(),
-        too_large: false,
-    };
-    let mut counts = Counts::default();
-    let parsed = {
-        let mut de = serde_json::Deserializer::from_reader(std::io::BufReader::new(&mut keep));
-        Top(&mut counts)
-            .deserialize(&mut de)
-            .and_then(|()| de.end())
-    };
-    if let Some(e) = counts.over {
-        return Err(e);
-    }
-    let too_large = || SceneError::TooLarge {
-        bytes: limits::SCENE_BYTES as u64 + 1,
-        limit: limits::SCENE_BYTES as u64,
-    };
-    let io = |source_error| SceneError::Io {
-        path: source.to_string(),
-        source: source_error,
-    };
-    if keep.too_large {
-        return Err(too_large());
-    }
-    if let Err(e) = parsed {
-        if e.is_io() {
-            return Err(io(std::io::Error::other(e.to_string())));
-        }
-        // Not JSON of the scene's shape: read the rest (bounded) so that the full parse
-        // reports the error in its own words.
-        let mut rest = Vec::new();
-        let read = keep.read_to_end(&mut rest);
-        if keep.too_large {
-            return Err(too_large());
-        }
-        read.map_err(io)?;
-    }
-    String::from_utf8(keep.kept)
-        .map_err(|e| SceneError::Syntax(format!("scene text is not UTF-8: {e}")))
-}
-
-/// Reads a scene file with [`read_bounded`]; a file larger than [`limits::SCENE_BYTES`] is
-/// refused before it is read.
-pub(super) fn read_file(path: &str) -> Result<String, SceneError> {
-    let io = |source| SceneError::Io {
-        path: path.to_string(),
-        source,
-    };
-    let file = std::fs::File::open(path).map_err(io)?;
-    let bytes = file.metadata().map_err(io)?.len();
-    if bytes > limits::SCENE_BYTES as u64 {
-        return Err(SceneError::TooLarge {
-            bytes,
-            limit: limits::SCENE_BYTES as u64,
-        });
-    }
-    read_bounded(file, path)
 }
 
 impl SceneFile {
@@ -1252,192 +707,6 @@ fn compound_parts(
         }
     }
     ok
-}
-
-/// Checks a tree's link shapes and drives: links and joints that exist, primitive shapes
-/// with sizes in range, known materials, drives on additive coordinates with finite settings.
-fn tree_extras(
-    r: &mut Report,
-    k: usize,
-    a: &super::format::ArticulatedDesc,
-    tree: &crate::model::ArticulatedTree<f64>,
-    materials: &[super::format::MaterialDesc],
-) {
-    let link = |name: &str| tree.bodies().iter().position(|b| b.name == name);
-    for (i, ls) in a.shapes.iter().enumerate() {
-        let p = format!("articulated[{k}].shapes[{i}]");
-        if link(&ls.link).is_none() {
-            r.add(format!("{p}.link"), format!("no link named '{}'", ls.link));
-        }
-        let sizes: &[f64] = match &ls.shape {
-            ShapeDesc::Box { half_extents } => half_extents,
-            ShapeDesc::Sphere { radius } => std::slice::from_ref(radius),
-            ShapeDesc::Capsule { radius, .. } | ShapeDesc::Cylinder { radius, .. } => {
-                std::slice::from_ref(radius)
-            }
-            ShapeDesc::HalfSpace { .. } | ShapeDesc::Compound { .. } => {
-                r.add(
-                    format!("{p}.shape"),
-                    "a link's shapes are boxes, spheres, capsules or cylinders",
-                );
-                &[]
-            }
-        };
-        for x in sizes {
-            r.range(&format!("{p}.shape"), *x, limits::SIZE_M, "m");
-        }
-        r.coords3(
-            &format!("{p}.position"),
-            &ls.position,
-            limits::PART_OFFSET_M,
-            "m",
-        );
-        r.bounded3(
-            &format!("{p}.rotation"),
-            &ls.rotation,
-            limits::ROTATION_RAD,
-            "rad",
-        );
-        if let Some(m) = &ls.material {
-            if !materials.iter().any(|x| &x.name == m) {
-                r.add(format!("{p}.material"), format!("no material named '{m}'"));
-            }
-        }
-    }
-    for (i, d) in a.drives.iter().enumerate() {
-        let p = format!("articulated[{k}].drives[{i}]");
-        let Some(l) = link(&d.joint) else {
-            r.add(
-                format!("{p}.joint"),
-                format!("no joint (link) named '{}'", d.joint),
-            );
-            continue;
-        };
-        let b = &tree.bodies()[l];
-        if !matches!(
-            b.joint.type_name(),
-            "revolute" | "prismatic" | "cylindrical" | "universal"
-        ) {
-            r.add(
-                format!("{p}.joint"),
-                format!(
-                    "a {} joint cannot be driven: drives act on revolute, prismatic, cylindrical or universal joints",
-                    b.joint.type_name()
-                ),
-            );
-        }
-        if d.coordinate >= b.nv() {
-            r.add(
-                format!("{p}.coordinate"),
-                format!(
-                    "the joint has {} coordinate(s), not {}",
-                    b.nv(),
-                    d.coordinate + 1
-                ),
-            );
-        }
-        if d.motor.is_none() && d.limits.is_none() && d.trajectory.is_none() {
-            r.add(&p, "give 'motor', 'limits' or 'trajectory'");
-        }
-        if d.trajectory.is_some() && (d.motor.is_some() || d.limits.is_some()) {
-            r.add(&p, "a prescribed coordinate takes no motor or limits");
-        }
-        if let Some(m) = &d.motor {
-            for (f, x) in [
-                ("stiffness", m.stiffness),
-                ("damping", m.damping),
-                ("max_force", m.max_force),
-            ] {
-                r.range(&format!("{p}.motor.{f}"), x, (0.0, 1e9), "");
-            }
-            for (f, x) in [
-                ("target_position", m.target_position.unwrap_or(0.0)),
-                ("target_velocity", m.target_velocity),
-            ] {
-                r.range(
-                    &format!("{p}.motor.{f}"),
-                    x,
-                    (-limits::TREE_Q, limits::TREE_Q),
-                    "",
-                );
-            }
-        }
-        if let Some([lo, hi]) = d.limits {
-            if !(lo.is_finite()
-                && hi.is_finite()
-                && lo < hi
-                && lo.abs() <= limits::TREE_Q
-                && hi.abs() <= limits::TREE_Q)
-            {
-                r.add(
-                    format!("{p}.limits"),
-                    format!("must be finite with lower < upper, got [{lo}, {hi}]"),
-                );
-            }
-        }
-        if let Some(t) = &d.trajectory {
-            let tp = format!("{p}.trajectory");
-            match t {
-                super::format::TrajectoryDesc::ConstantVelocity { start, velocity } => {
-                    r.range(
-                        &format!("{tp}.start"),
-                        *start,
-                        (-limits::TREE_Q, limits::TREE_Q),
-                        "",
-                    );
-                    r.range(
-                        &format!("{tp}.velocity"),
-                        *velocity,
-                        (-limits::TREE_QD, limits::TREE_QD),
-                        "",
-                    );
-                }
-                super::format::TrajectoryDesc::Keyframes { points } => {
-                    if points.is_empty() || points.len() > 10_000 {
-                        r.add(
-                            format!("{tp}.points"),
-                            format!("needs 1 … 10000 points, has {}", points.len()),
-                        );
-                    }
-                    let ok = points.iter().all(|p| {
-                        p[0].is_finite() && p[1].is_finite() && p[1].abs() <= limits::TREE_Q
-                    }) && points.windows(2).all(|w| w[0][0] < w[1][0]);
-                    if !ok {
-                        r.add(
-                            format!("{tp}.points"),
-                            "times must increase and every value be finite",
-                        );
-                    }
-                }
-                super::format::TrajectoryDesc::Sinusoid {
-                    offset,
-                    amplitude,
-                    frequency,
-                    phase,
-                } => {
-                    r.range(
-                        &format!("{tp}.offset"),
-                        *offset,
-                        (-limits::TREE_Q, limits::TREE_Q),
-                        "",
-                    );
-                    r.range(
-                        &format!("{tp}.amplitude"),
-                        *amplitude,
-                        (-limits::TREE_Q, limits::TREE_Q),
-                        "",
-                    );
-                    r.range(&format!("{tp}.frequency"), *frequency, (0.0, 1e3), "Hz");
-                    r.range(
-                        &format!("{tp}.phase"),
-                        *phase,
-                        (-limits::ROTATION_RAD, limits::ROTATION_RAD),
-                        "rad",
-                    );
-                }
-            }
-        }
-    }
 }
 
 /// A joint's type, axes, motors, limits and armature (the bodies are checked by the caller).

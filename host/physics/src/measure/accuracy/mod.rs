@@ -165,23 +165,28 @@ pub fn finite_or_inf(x: f64) -> f64 {
     }
 }
 
-/// CPU seconds this thread has used (Linux: `CLOCK_THREAD_CPUTIME_ID`; elsewhere wall-clock
-/// seconds since the first call). The cost columns difference two readings, so time the
-/// scheduler gives to other processes on a shared machine does not count.
+/// The clock the cost columns read, s: set once by the program that reports them
+/// ([`set_clock`]); wall-clock seconds since the first reading otherwise.
+static CLOCK: std::sync::OnceLock<fn() -> f64> = std::sync::OnceLock::new();
+
+/// Sets the clock of the cost columns (seconds, any origin: they difference two
+/// readings), e.g. the thread's CPU time, so that time the scheduler gives to other
+/// processes on a shared machine does not count (`vphys accuracy` does). Only the first
+/// call counts; returns whether it did.
+pub fn set_clock(clock: fn() -> f64) -> bool {
+    CLOCK.set(clock).is_ok()
+}
+
+/// A reading of the cost columns' clock (s; see [`set_clock`]).
 pub fn cpu_seconds() -> f64 {
-    #[cfg(target_os = "linux")]
-    {
-        let mut ts = libc::timespec {
-            tv_sec: 0,
-            tv_nsec: 0,
-        };
-        // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant of the
-        // platform; clock_gettime writes only into `ts`.
-        let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-        if rc == 0 {
-            return ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9;
-        }
+    match CLOCK.get() {
+        Some(clock) => clock(),
+        None => wall_seconds(),
     }
+}
+
+/// Wall-clock seconds since the first call.
+fn wall_seconds() -> f64 {
     static START: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
     START
         .get_or_init(std::time::Instant::now)

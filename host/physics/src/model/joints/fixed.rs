@@ -2,7 +2,7 @@
 
 use super::Joint;
 use crate::algebra::{se3, SE3};
-use crate::model::description::JointDescription;
+use crate::model::joint_description::JointDescription;
 use crate::Real;
 
 /// No degree of freedom: `X_J = identity`.

@@ -2,7 +2,7 @@
 
 use super::Joint;
 use crate::algebra::{exp_so3, se3, Vec3, SE3};
-use crate::model::description::JointDescription;
+use crate::model::joint_description::JointDescription;
 use crate::Real;
 
 /// Unconstrained motion. 6 DOF.

@@ -25,7 +25,7 @@ pub use prismatic::Prismatic;
 pub use revolute::Revolute;
 pub use universal::Universal;
 
-use super::description::JointDescription;
+use super::joint_description::JointDescription;
 use super::ModelError;
 use crate::algebra::{se3, Vec3, SE3};
 use crate::Real;

@@ -2,7 +2,7 @@
 
 use super::{axis_f64, Joint};
 use crate::algebra::{se3, Vec3, SE3};
-use crate::model::description::JointDescription;
+use crate::model::joint_description::JointDescription;
 use crate::Real;
 
 /// Rotation by `q` (rad) about the unit `axis` (joint frame) through the origin.

@@ -2,7 +2,7 @@
 
 use super::{axis_f64, Joint};
 use crate::algebra::{cross, mul_mtv, scale, se3, Vec3, SE3};
-use crate::model::description::JointDescription;
+use crate::model::joint_description::JointDescription;
 use crate::Real;
 
 /// Rotation by `q[0]` about `axis1` (joint frame), then by `q[1]` about `axis2` (the
