@@ -11,14 +11,22 @@
 //! time and per-paddle packet ages and drop counts, [`Board::last_timing`]); they go
 //! through their byte encoding and [`ReportReceiver`], exactly like the socket and USB
 //! boards, so [`Board::stats`] means the same thing.
+//!
+//! The board answers Feature reports ([`FeaturePipe`]) as the firmware does, with the
+//! same code as the USB/IP device ([`crate::usb_device`]): device info (uptime = the
+//! emulated time since power-up, µs), each port's diagnostics and the settings, read
+//! from the firmware library; settings written are applied to it; `EnterBootloader`
+//! takes the board off the bus for good (polls, OUT reports and Feature reports then
+//! answer [`BoardError::Disconnected`], and the link state is disconnected).
 
 use crate::board::{BoardConfig, EmulatedBoard};
 use crate::error::SimError;
 use crate::motion::live::{LiveHandle, LiveLimits, LiveMotion};
 use crate::motion::MotionSource;
 use crate::pacing::RealTimePacer;
-use board_link::{Board, BoardError, LinkState, LinkStats, ReportReceiver};
-use foosball_protocol::{InReport, InReportV2, OutReport, ReportTiming};
+use crate::usb_device::{FeatureCommand, FeatureSelection};
+use board_link::{Board, BoardError, FeaturePipe, LinkState, LinkStats, ReportReceiver};
+use foosball_protocol::{InReport, InReportV2, OutReport, ReportTiming, FEATURE_REPORT_LEN};
 use std::time::{Duration, Instant};
 
 /// How many reports a real-time board catches up at most after a stall.
@@ -39,6 +47,10 @@ pub struct InProcessBoard {
     pacing: Pacing,
     pacer: Option<RealTimePacer>,
     receiver: ReportReceiver,
+    /// What GET_REPORT (Feature) returns.
+    feature: FeatureSelection,
+    /// The host sent the board into its bootloader: it has left the bus.
+    in_bootloader: bool,
 }
 
 impl std::fmt::Debug for InProcessBoard {
@@ -47,6 +59,7 @@ impl std::fmt::Debug for InProcessBoard {
             .field("pacing", &self.pacing)
             .field("now_us", &self.board.now_us())
             .field("stats", &self.receiver.stats())
+            .field("in_bootloader", &self.in_bootloader)
             .finish()
     }
 }
@@ -59,6 +72,8 @@ impl InProcessBoard {
             pacing,
             pacer: None,
             receiver: ReportReceiver::new(),
+            feature: FeatureSelection::default(),
+            in_bootloader: false,
         }
     }
 
@@ -108,6 +123,9 @@ impl Board for InProcessBoard {
     }
 
     fn poll_report(&mut self, timeout: Duration) -> Result<Option<InReport>, BoardError> {
+        if self.in_bootloader {
+            return Err(BoardError::Disconnected);
+        }
         if self.pacing == Pacing::Lockstep {
             let report = self.board.step_report_v2();
             return self.deliver(report);
@@ -136,6 +154,9 @@ impl Board for InProcessBoard {
     }
 
     fn send(&mut self, report: &OutReport) -> Result<(), BoardError> {
+        if self.in_bootloader {
+            return Err(BoardError::Disconnected);
+        }
         self.board
             .receive_out_report(&report.to_bytes())
             .map(|_| ())
@@ -146,7 +167,11 @@ impl Board for InProcessBoard {
     }
 
     fn link_state(&self) -> LinkState {
-        LinkState::Connected
+        if self.in_bootloader {
+            LinkState::Disconnected
+        } else {
+            LinkState::Connected
+        }
     }
 
     fn stats(&self) -> LinkStats {
@@ -155,6 +180,37 @@ impl Board for InProcessBoard {
 
     fn last_timing(&self) -> Option<ReportTiming> {
         self.receiver.last_timing()
+    }
+}
+
+/// Feature reports answered as the firmware answers them (see the
+/// [module documentation](self)); a refused write is [`BoardError::FeatureUnsupported`],
+/// as a STALL is on USB.
+impl FeaturePipe for InProcessBoard {
+    fn get_feature(&mut self, buf: &mut [u8; FEATURE_REPORT_LEN]) -> Result<usize, BoardError> {
+        if self.in_bootloader {
+            return Err(BoardError::Disconnected);
+        }
+        let report = self
+            .feature
+            .report(self.board.firmware(), self.board.now_us());
+        // `buf` is one Feature report long: encoding cannot fail.
+        report
+            .encode(buf)
+            .map_err(|e| BoardError::Usb(format!("encoding a Feature report: {e}")))
+    }
+
+    fn set_feature(&mut self, report: &[u8; FEATURE_REPORT_LEN]) -> Result<(), BoardError> {
+        if self.in_bootloader {
+            return Err(BoardError::Disconnected);
+        }
+        match self.feature.set(report) {
+            Ok(None) => {}
+            Ok(Some(FeatureCommand::Settings(settings))) => self.board.apply_settings(&settings),
+            Ok(Some(FeatureCommand::EnterBootloader)) => self.in_bootloader = true,
+            Err(()) => return Err(BoardError::FeatureUnsupported),
+        }
+        Ok(())
     }
 }
 
@@ -217,5 +273,54 @@ mod tests {
         assert!((150..=205).contains(&n), "{n}");
         let r = board.emulated().last_report().unwrap();
         assert_eq!(r.paddles[0].status.bits() & PaddleStatus::PRESENT.bits(), 0);
+    }
+
+    #[test]
+    fn feature_reports_are_answered_as_the_firmware_answers_them() {
+        use foosball_protocol::{BoardSettings, FeatureReport, ResetReason};
+        let mut board = InProcessBoard::with_motion(
+            BoardConfig::default(),
+            Box::new(crate::motion::Stationary),
+            Pacing::Lockstep,
+        )
+        .unwrap();
+        for _ in 0..1_000 {
+            board.poll_report(Duration::ZERO).unwrap();
+        }
+        let info = board.device_info().unwrap();
+        assert_eq!(info.uptime_us, 1_000_000, "the emulated time, µs");
+        assert_eq!(info.present_ports, 0xFF, "every mouse past its self-test");
+        assert_eq!(info.reset_reason, ResetReason::PowerOn);
+        assert_eq!(&info.git_hash, b"emulated????");
+        for port in 0..8 {
+            let diag = board.port_diagnostics(port).unwrap();
+            let firmware = board.emulated().firmware().port_diagnostics(port).unwrap();
+            assert_eq!(diag, firmware, "port {port}");
+            assert!(diag.present && diag.counters.frames > 0, "{diag:?}");
+        }
+        assert_eq!(board.settings().unwrap(), BoardSettings::DEFAULT);
+        let mut settings = BoardSettings::DEFAULT;
+        settings.ports[3].sample_rate = 100;
+        settings.ports[5].invert_rotation = true;
+        board.set_settings(&settings).unwrap();
+        assert_eq!(board.settings().unwrap(), settings);
+        assert_eq!(board.emulated().firmware().settings(), settings);
+        // A kind only the board sends is refused, as the firmware stalls it.
+        let info_bytes = FeatureReport::DeviceInfo(info).to_bytes();
+        assert!(matches!(
+            board.set_feature(&info_bytes),
+            Err(BoardError::FeatureUnsupported)
+        ));
+        board.enter_bootloader().unwrap();
+        assert_eq!(board.link_state(), LinkState::Disconnected);
+        assert!(matches!(
+            board.poll_report(Duration::ZERO),
+            Err(BoardError::Disconnected)
+        ));
+        assert!(matches!(board.device_info(), Err(BoardError::Disconnected)));
+        assert!(matches!(
+            board.send(&OutReport::default()),
+            Err(BoardError::Disconnected)
+        ));
     }
 }

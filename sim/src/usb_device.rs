@@ -25,7 +25,7 @@ mod feature;
 
 pub use bus::UrbBus;
 
-use feature::{FeatureCommand, FeatureSelection};
+pub(crate) use feature::{FeatureCommand, FeatureSelection};
 
 use foosball_protocol::usb::{
     ENDPOINT_MAX_PACKET, HID_REPORT_DESCRIPTOR, MANUFACTURER, POLL_INTERVAL_MS, PRODUCT,

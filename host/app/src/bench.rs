@@ -16,7 +16,10 @@
 //!   and angle; with the tracker's pose prediction over the mice's 5 ms packet period
 //!   plus a 2 ms lead for the packet's time on the PS/2 wire (what headless play uses,
 //!   `input_latency_ms`), without the lead, and without prediction; and how far the
-//!   predicted rod overshoots when the emulated rod stops.
+//!   predicted rod overshoots when the emulated rod stops. The unpredicted delay is split
+//!   into how far the servos' target lags the hand (the input chain: on average half the
+//!   mice's 5 ms sample period, the packet's 2.64 ms on the wire, the report) and how far
+//!   the rod in physics lags its target (the servo).
 //! * **Input latency on board time**: the same ramp with the tracker on the board's
 //!   clock (`PaddleTracker::set_device_time_tracking`) and no prediction horizon: the
 //!   emulated board sends version 2 reports (device time, per-paddle packet age), each
@@ -131,6 +134,9 @@ struct Latency {
     overshoot_slide_m: f64,
     /// Largest angle past the final pose after the ramp stops, rad.
     overshoot_angle_rad: f64,
+    /// Mean over the ramp, slide and angle together, of how far the servos' target lags
+    /// the hand (the mice's sampling, the PS/2 wire, the report, the tracker), ms.
+    target_mean: f64,
 }
 
 /// How the tracker of a latency run turns reports into poses.
@@ -170,7 +176,7 @@ fn latency(tracking: Tracking) -> Result<Latency> {
     }
     let mut m = Match::new(MatchConfig::player_vs_computer(table.clone(), 1))?;
     let sign = table.rods[rod].handle_sign();
-    let (mut slide, mut angle) = (Vec::new(), Vec::new());
+    let (mut slide, mut angle, mut target) = (Vec::new(), Vec::new(), Vec::new());
     let ramp_end_ms = ((RAMP_START_S + RAMP_S) * 1e3) as u64;
     let (final_slide, final_angle) = (SLIDE_SPEED_M_PER_S * RAMP_S, SPIN_RAD_PER_S * RAMP_S);
     let (mut overshoot_slide_m, mut overshoot_angle_rad) = (0.0f64, 0.0f64);
@@ -189,11 +195,15 @@ fn latency(tracking: Tracking) -> Result<Latency> {
             overshoot_angle_rad = overshoot_angle_rad.max(sign * pose.angle_rad - final_angle);
             continue;
         }
-        // When the emulated rod was where the physics rod is now.
+        // When the emulated rod was where the physics rod is now, and where the servos
+        // are told to take it.
         let slide_t = RAMP_START_S + sign * pose.slide_m / SLIDE_SPEED_M_PER_S;
         let angle_t = RAMP_START_S + sign * pose.angle_rad / SPIN_RAD_PER_S;
         slide.push((now_s - slide_t) * 1e3);
         angle.push((now_s - angle_t) * 1e3);
+        let goal = m.arena().rod_targets()[rod];
+        target.push((now_s - RAMP_START_S - sign * goal.slide_m / SLIDE_SPEED_M_PER_S) * 1e3);
+        target.push((now_s - RAMP_START_S - sign * goal.angle_rad / SPIN_RAD_PER_S) * 1e3);
     }
     if slide.is_empty() {
         bail!("latency ramp produced no samples");
@@ -213,6 +223,7 @@ fn latency(tracking: Tracking) -> Result<Latency> {
         angle_worst: worst(&angle),
         overshoot_slide_m,
         overshoot_angle_rad,
+        target_mean: mean(&target),
     })
 }
 
@@ -265,6 +276,8 @@ fn run_match(args: &MatchArgs) -> Result<()> {
                 "input_latency_unpredicted_worst_ms": raw.slide_worst.max(raw.angle_worst),
                 "input_latency_median_ms": predicted.median,
                 "input_latency_unpredicted_median_ms": raw.median,
+                "input_latency_unpredicted_before_servo_ms": raw.target_mean,
+                "servo_lag_unpredicted_ms": raw_latency - raw.target_mean,
                 "input_latency_board_time_median_ms": board_time.median,
                 "input_latency_board_time_ms": 0.5 * (board_time.slide_mean + board_time.angle_mean),
                 "input_latency_board_time_worst_ms": board_time.slide_worst.max(board_time.angle_worst),
@@ -312,6 +325,12 @@ fn run_match(args: &MatchArgs) -> Result<()> {
                 l.overshoot_angle_rad
             );
         }
+        println!(
+            "  unpredicted, split: the servos' target lags the hand {:.2} ms (mouse sampling, \
+             PS/2 wire, report, tracker), the rod lags its target {:.2} ms (the servo)",
+            raw.target_mean,
+            raw_latency - raw.target_mean
+        );
         if cfg!(debug_assertions) {
             println!("(debug build: use --release for representative step times)");
         }

@@ -1,8 +1,9 @@
 //! `space-foosball board`: the sensor board's health, live.
 //!
 //! Opens a board as `play` does (`--board auto|usb|emulated|socket[:PATH]`, through
-//! [`crate::window::board::open`]) or the `sim serve` emulator at `--socket PATH`, reads
-//! its IN reports and prints, every `--interval-ms` (one *frame* of the view):
+//! [`crate::window::board::open`]), the `sim serve` emulator at `--socket PATH` or the
+//! USB board with serial number `--serial S` ([`crate::board_tool::target`]), reads its
+//! IN reports and prints, every `--interval-ms` (one *frame* of the view):
 //!
 //! * the board's name, the link state, the protocol version of the newest report
 //!   (1: motion only; 2: with timing) and, for version 2, the device time (µs since the
@@ -18,67 +19,89 @@
 //!   started; the status flags seen during the frame.
 //!
 //! `--once` prints one frame, `--frames N` that many; otherwise it runs until stopped.
-//! `--format json` prints each frame as one JSON object per line, for scripts. Every
-//! figure is taken from the reports as the board sent them (through
+//! `--format json` (or `--json`) prints each frame as one JSON object per line, for
+//! scripts. Every figure is taken from the reports as the board sent them (through
 //! [`board_link::ReportReceiver`]) and the link's own counters: nothing is estimated.
 //! With no report within `--wait-ms` of opening, it fails (one line, exit status 1).
+//!
+//! The options choosing the board (`--board`, `--socket`, `--serial`) are
+//! [`crate::board_tool`]'s, shared with the board's diagnostics and settings commands.
 
-use crate::window::board::{self, BoardChoice};
-use anyhow::{anyhow, bail, Context, Result};
-use board_link::{Board, BoardError, LinkState, LinkStats, ReportTiming, SocketBoard};
+use anyhow::{bail, Context, Result};
+use board_link::{Board, BoardError, LinkState, LinkStats, ReportTiming};
 use foosball_protocol::{InReport, PaddleStatus, FORMAT_VERSION, IN_REPORT_V2_VERSION, PADDLES};
 use std::io::{self, IsTerminal, Write};
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-/// Arguments of `space-foosball board`.
-#[derive(clap::Args, Debug)]
-pub struct Args {
-    /// The board: auto (USB if plugged in, else the built-in emulated board), usb,
-    /// emulated, socket (the `sim serve` emulator at its default path) or socket:PATH.
-    #[arg(long, default_value = "auto", value_parser = parse_board, conflicts_with = "socket")]
-    pub board: BoardChoice,
-    /// The `sim serve` emulator at this socket path (the same as `--board socket:PATH`).
-    #[arg(long, value_name = "ADDR")]
-    pub socket: Option<PathBuf>,
+/// Default of `--interval-ms`.
+const DEFAULT_INTERVAL_MS: u64 = 500;
+/// Default of `--wait-ms`.
+const DEFAULT_WAIT_MS: u64 = 3_000;
+
+/// Options of the live view (`space-foosball board` or `space-foosball board live`).
+#[derive(clap::Args, Debug, Clone, Default, PartialEq, Eq)]
+pub struct LiveArgs {
     /// Print one frame and stop (the same as `--frames 1`).
     #[arg(long, conflicts_with = "frames")]
     pub once: bool,
     /// Print this many frames and stop (default: until stopped).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     pub frames: Option<u64>,
-    /// How long one frame of the view gathers reports, ms (10–60000).
-    #[arg(long, default_value_t = 500, value_parser = clap::value_parser!(u64).range(10..=60_000))]
-    pub interval_ms: u64,
-    /// How long to wait for the first report, ms (1–60000).
-    #[arg(long, default_value_t = 3_000, value_parser = clap::value_parser!(u64).range(1..=60_000))]
-    pub wait_ms: u64,
-    /// Output: readable text, or one JSON object per frame and line.
-    #[arg(long, default_value = "text", value_parser = ["text", "json"])]
-    pub format: String,
+    /// How long one frame of the view gathers reports, ms (10–60000; default 500).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(10..=60_000))]
+    pub interval_ms: Option<u64>,
+    /// How long to wait for the first report, ms (1–60000; default 3000).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=60_000))]
+    pub wait_ms: Option<u64>,
+    /// Output: readable text (default), or one JSON object per frame and line (the
+    /// same as `--json`).
+    #[arg(long, value_parser = ["text", "json"])]
+    pub format: Option<String>,
 }
 
-fn parse_board(s: &str) -> Result<BoardChoice, String> {
-    s.parse()
+impl LiveArgs {
+    /// Whether any option was given.
+    pub fn any_given(&self) -> bool {
+        *self != Self::default()
+    }
+
+    /// These options, with those of `other` where it gives one (`board --once live
+    /// --frames 3` takes both).
+    pub fn or(&self, other: &Self) -> Self {
+        Self {
+            once: self.once || other.once,
+            frames: other.frames.or(self.frames),
+            interval_ms: other.interval_ms.or(self.interval_ms),
+            wait_ms: other.wait_ms.or(self.wait_ms),
+            format: other.format.clone().or_else(|| self.format.clone()),
+        }
+    }
+
+    /// Checks the options together (`json`: `--json` was given) and tells whether
+    /// the frames are printed as JSON.
+    pub fn json_output(&self, json: bool) -> Result<bool> {
+        if self.once && self.frames.is_some() {
+            bail!("--once and --frames cannot be used together");
+        }
+        match (self.format.as_deref(), json) {
+            (Some("text"), true) => bail!("--json and --format text contradict each other"),
+            (format, json) => Ok(json || format == Some("json")),
+        }
+    }
 }
 
-/// Runs `space-foosball board`.
-pub fn run(args: &Args) -> Result<()> {
-    let choice = match &args.socket {
-        Some(path) => BoardChoice::Socket(Some(path.clone())),
-        None => args.board.clone(),
-    };
-    let mut board = open(&choice)?;
+/// Runs the live view of `board` (opened by [`crate::board_tool`]), printing JSON
+/// lines when `json` ([`LiveArgs::json_output`]).
+pub fn run(mut board: Box<dyn Board>, args: &LiveArgs, json: bool) -> Result<()> {
     let frames = if args.once { Some(1) } else { args.frames };
-    let json = args.format == "json";
     let clear = !json && frames.is_none() && io::stdout().is_terminal();
     let mut view = HealthView::new();
     wait_for_first_report(
         board.as_mut(),
         &mut view,
-        Duration::from_millis(args.wait_ms),
+        Duration::from_millis(args.wait_ms.unwrap_or(DEFAULT_WAIT_MS)),
     )?;
-    let interval = Duration::from_millis(args.interval_ms);
+    let interval = Duration::from_millis(args.interval_ms.unwrap_or(DEFAULT_INTERVAL_MS));
     let mut printed = 0u64;
     let mut out = io::stdout().lock();
     while frames.is_none_or(|n| printed < n) {
@@ -102,25 +125,6 @@ pub fn run(args: &Args) -> Result<()> {
         printed += 1;
     }
     Ok(())
-}
-
-/// Opens `choice`; a socket board is reached at once so that a missing emulator is
-/// said plainly.
-fn open(choice: &BoardChoice) -> Result<Box<dyn Board>> {
-    if let BoardChoice::Socket(path) = choice {
-        let path = path
-            .clone()
-            .unwrap_or_else(board_link::socket_wire::default_socket_path);
-        let socket = SocketBoard::connect(path.clone()).map_err(|e| {
-            anyhow!(
-                "no emulator answers at {} ({e}); start one with `sim serve --socket {}`",
-                path.display(),
-                path.display()
-            )
-        })?;
-        return Ok(Box::new(socket));
-    }
-    Ok(board::open(choice)?.board)
 }
 
 /// Polls until the first report arrives, or fails after `wait`.

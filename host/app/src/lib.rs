@@ -2,4 +2,4 @@
 //! view model ([`view`]). The program itself is `src/main.rs`; keeping the conversion
 //! here lets the tests picture the real tables exactly as the program does.
 
-pub mod view;
+pub use space_foosball_front::view;

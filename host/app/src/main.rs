@@ -12,10 +12,13 @@
 //! space-foosball bench match [--json] [--steps N] [--table standard|paper|FILE]
 //! space-foosball bench render [--frames 120] [--width W --height H]
 //! space-foosball play --headless --record FILE … ; space-foosball replay FILE [--home player] [--format text]
-//! space-foosball board [--board auto|usb|emulated|socket[:PATH] | --socket PATH] [--once | --frames N] [--format text|json]
+//! space-foosball board [live] [--board auto|usb|emulated|socket[:PATH] | --socket PATH] [--serial S] [--once | --frames N] [--format text|json | --json]
+//! space-foosball board info|ports|settings|bootloader [--board auto|usb|emulated] [--serial S] [--json]
+//! space-foosball board set port.N.FIELD VALUE [--board auto|usb|emulated] [--serial S] [--json]
 //! ```
 
 mod bench;
+mod board_tool;
 mod board_view;
 mod event_text;
 mod headless;
@@ -53,10 +56,11 @@ enum Command {
     /// Play a recorded match (`play --headless --record FILE`) back headless: the
     /// recorded match's events again.
     Replay(replay::Args),
-    /// The sensor board's health, live: protocol version, device time, per paddle
-    /// presence, packet age, dropped packets and motion, the report rate, the host's
-    /// counters (lost reports, sequence gaps).
-    Board(board_view::Args),
+    /// The sensor board: its health, live (the default: protocol version, device time,
+    /// per paddle presence, packet age, dropped packets and motion, the report rate,
+    /// the host's counters); `info`, `ports`, `settings`, `set KEY VALUE` and
+    /// `bootloader` for its diagnostics and settings.
+    Board(board_tool::Args),
 }
 
 fn main() -> ExitCode {
@@ -70,7 +74,7 @@ fn main() -> ExitCode {
         Command::Play(args) => play::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Replay(args) => replay::run(&args),
-        Command::Board(args) => board_view::run(&args),
+        Command::Board(args) => board_tool::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

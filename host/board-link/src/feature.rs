@@ -14,17 +14,57 @@ use foosball_protocol::{
 
 use crate::BoardError;
 
-/// HID GET_REPORT / SET_REPORT of the one Feature report, whatever carries them.
-pub(crate) trait FeaturePipe {
-    /// GET_REPORT (Feature): the board's answer, its length in bytes.
+/// HID GET_REPORT / SET_REPORT of the board's one Feature report
+/// ([`FEATURE_REPORT_LEN`] bytes, no report id), whatever carries them: USB control
+/// transfers ([`crate::UsbBoard`]) or an emulated board answering as the firmware does
+/// (`foosball-sim`'s in-process board).
+///
+/// Implementors provide the two transfers; the provided methods are the board's
+/// requests on top of them (a Select, then GET_REPORT; or one SET_REPORT) and check
+/// every answer, so any pipe gets the same checked diagnostics and settings.
+pub trait FeaturePipe {
+    /// GET_REPORT (Feature): writes the board's answer into `buf` and returns its
+    /// length in bytes. [`BoardError::FeatureUnsupported`] when the board refuses
+    /// (STALL).
     fn get_feature(&mut self, buf: &mut [u8; FEATURE_REPORT_LEN]) -> Result<usize, BoardError>;
-    /// SET_REPORT (Feature).
+
+    /// SET_REPORT (Feature) of `report`. [`BoardError::FeatureUnsupported`] when the
+    /// board refuses it (STALL).
     fn set_feature(&mut self, report: &[u8; FEATURE_REPORT_LEN]) -> Result<(), BoardError>;
+
+    /// Firmware version and git hash, reset reason, uptime (µs), present ports.
+    fn device_info(&mut self) -> Result<DeviceInfo, BoardError> {
+        device_info(self)
+    }
+
+    /// Port `port`'s (0..8) state, PS/2 device id and counters;
+    /// [`BoardError::PortOutOfRange`] for another port, before anything is sent.
+    fn port_diagnostics(&mut self, port: u8) -> Result<PortDiagnostics, BoardError> {
+        port_diagnostics(self, port)
+    }
+
+    /// The board's settings (axis map, resolution and sample rate per port).
+    fn settings(&mut self) -> Result<BoardSettings, BoardError> {
+        settings(self)
+    }
+
+    /// Writes new settings (the board applies them and keeps them in flash). A field
+    /// out of range is refused ([`BoardError::Malformed`] naming it) before anything
+    /// is sent.
+    fn set_settings(&mut self, settings: &BoardSettings) -> Result<(), BoardError> {
+        set_settings(self, settings)
+    }
+
+    /// Restarts the board into the RP2040's USB bootloader: it leaves the bus and
+    /// comes back as the `RPI-RP2` drive.
+    fn enter_bootloader(&mut self) -> Result<(), BoardError> {
+        enter_bootloader(self)
+    }
 }
 
 /// Selects `kind` (of `port`), reads the answer and checks it is what was selected.
 fn read(
-    pipe: &mut impl FeaturePipe,
+    pipe: &mut (impl FeaturePipe + ?Sized),
     kind: FeatureKind,
     port: u8,
 ) -> Result<FeatureReport, BoardError> {
@@ -43,7 +83,9 @@ fn read(
 }
 
 /// The board's identity, reset reason and uptime.
-pub(crate) fn device_info(pipe: &mut impl FeaturePipe) -> Result<DeviceInfo, BoardError> {
+pub(crate) fn device_info(
+    pipe: &mut (impl FeaturePipe + ?Sized),
+) -> Result<DeviceInfo, BoardError> {
     match read(pipe, FeatureKind::DeviceInfo, 0)? {
         FeatureReport::DeviceInfo(info) => Ok(info),
         other => Err(wrong_kind(&other)),
@@ -52,7 +94,7 @@ pub(crate) fn device_info(pipe: &mut impl FeaturePipe) -> Result<DeviceInfo, Boa
 
 /// One port's state and counters; `port` in `0..8`.
 pub(crate) fn port_diagnostics(
-    pipe: &mut impl FeaturePipe,
+    pipe: &mut (impl FeaturePipe + ?Sized),
     port: u8,
 ) -> Result<PortDiagnostics, BoardError> {
     if usize::from(port) >= PADDLES {
@@ -70,7 +112,9 @@ pub(crate) fn port_diagnostics(
 }
 
 /// The board's settings.
-pub(crate) fn settings(pipe: &mut impl FeaturePipe) -> Result<BoardSettings, BoardError> {
+pub(crate) fn settings(
+    pipe: &mut (impl FeaturePipe + ?Sized),
+) -> Result<BoardSettings, BoardError> {
     match read(pipe, FeatureKind::Settings, 0)? {
         FeatureReport::Settings(settings) => Ok(settings),
         other => Err(wrong_kind(&other)),
@@ -80,7 +124,7 @@ pub(crate) fn settings(pipe: &mut impl FeaturePipe) -> Result<BoardSettings, Boa
 /// Writes new settings (the board applies them and keeps them in flash). Settings
 /// with a field out of range are refused here, before anything is sent.
 pub(crate) fn set_settings(
-    pipe: &mut impl FeaturePipe,
+    pipe: &mut (impl FeaturePipe + ?Sized),
     settings: &BoardSettings,
 ) -> Result<(), BoardError> {
     for (port, settings) in (0u8..).zip(&settings.ports) {
@@ -91,7 +135,7 @@ pub(crate) fn set_settings(
 
 /// Restarts the board into the RP2040's USB bootloader: it leaves the bus and comes
 /// back as the `RPI-RP2` drive.
-pub(crate) fn enter_bootloader(pipe: &mut impl FeaturePipe) -> Result<(), BoardError> {
+pub(crate) fn enter_bootloader(pipe: &mut (impl FeaturePipe + ?Sized)) -> Result<(), BoardError> {
     pipe.set_feature(&FeatureReport::EnterBootloader.to_bytes())
 }
 

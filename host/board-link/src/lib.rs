@@ -61,6 +61,8 @@ mod usb;
 
 use std::time::Duration;
 
+#[cfg(not(target_arch = "wasm32"))]
+pub use feature::FeaturePipe;
 pub use foosball_protocol::{DecodeError, InReport, OutReport, ReportTiming};
 pub use receiver::ReportReceiver;
 #[cfg(not(target_arch = "wasm32"))]
@@ -177,6 +179,24 @@ pub enum BoardError {
         /// Product id looked for.
         pid: u16,
     },
+    /// Sensor boards are plugged in, but none has the USB serial number asked for
+    /// (`UsbBoard::open_serial`).
+    #[error(
+        "no sensor board with serial number {wanted:?} (USB id {vid:04x}:{pid:04x}); \
+         boards found: {}",
+        .found.join(", ")
+    )]
+    SerialNotFound {
+        /// Vendor id looked for.
+        vid: u16,
+        /// Product id looked for.
+        pid: u16,
+        /// The serial number asked for.
+        wanted: String,
+        /// Each board with those ids that was found: its serial number (quoted), or why
+        /// it could not be read.
+        found: Vec<String>,
+    },
     /// The board is plugged in but this user may not open it.
     #[error(
         "permission denied opening the sensor board (USB id {vid:04x}:{pid:04x}); \
@@ -233,6 +253,7 @@ impl BoardError {
         match self {
             Self::Disconnected
             | Self::NotFound { .. }
+            | Self::SerialNotFound { .. }
             | Self::AccessDenied { .. }
             | Self::VersionMismatch { .. } => true,
             #[cfg(not(target_arch = "wasm32"))]

@@ -177,6 +177,15 @@ impl<C: Connector, K: Clock> Link<C, K> {
         &self.connector
     }
 
+    pub(crate) fn connector_mut(&mut self) -> &mut C {
+        &mut self.connector
+    }
+
+    /// The open transport, if any (no connection attempt).
+    pub(crate) fn transport(&self) -> Option<&C::Transport> {
+        self.transport.as_ref()
+    }
+
     pub(crate) fn name(&self) -> String {
         match &self.transport {
             Some(transport) => transport.name(),

@@ -76,6 +76,18 @@ impl UsbBoard {
         Ok(board)
     }
 
+    /// Opens the sensor board ([`VENDOR_ID`]:[`PRODUCT_ID`]) whose USB serial number
+    /// string is `serial`, for when several are plugged in. Each board with those ids
+    /// is opened briefly to read its serial number. [`BoardError::SerialNotFound`]
+    /// (naming the serial numbers found) when none has it, [`BoardError::NotFound`]
+    /// when no board is plugged in. Reconnects look for the same serial number.
+    pub fn open_serial(serial: &str) -> Result<Self, BoardError> {
+        let mut board = Self::new(VENDOR_ID, PRODUCT_ID);
+        board.link.connector_mut().serial = Some(serial.to_owned());
+        board.link.connect_now()?;
+        Ok(board)
+    }
+
     /// A board with the given ids that is not opened yet: the first poll looks for it,
     /// and polls keep looking until it is plugged in.
     pub fn new(vid: u16, pid: u16) -> Self {
@@ -84,6 +96,7 @@ impl UsbBoard {
                 UsbConnector {
                     vid,
                     pid,
+                    serial: None,
                     context: None,
                 },
                 SystemClock,
@@ -96,6 +109,17 @@ impl UsbBoard {
     pub fn ids(&self) -> (u16, u16) {
         let connector = self.link.connector();
         (connector.vid, connector.pid)
+    }
+
+    /// The serial number the board was chosen by ([`UsbBoard::open_serial`]), if any.
+    pub fn wanted_serial(&self) -> Option<&str> {
+        self.link.connector().serial.as_deref()
+    }
+
+    /// The USB serial number string of the board while it is open; `None` while it
+    /// is not, or when it has none (or it could not be read).
+    pub fn serial_number(&self) -> Option<String> {
+        self.link.transport().and_then(|t| t.serial.clone())
     }
 
     /// How often a missing board is looked for again.
@@ -147,6 +171,18 @@ impl UsbBoard {
     /// `RPI-RP2` drive, ready for a new UF2); this link then reports it gone.
     pub fn enter_bootloader(&mut self) -> Result<(), BoardError> {
         feature::enter_bootloader(self.link.transport_mut()?)
+    }
+}
+
+/// The Feature report transfers of the open board (connecting first if it is not
+/// open), so that code written for any [`FeaturePipe`] works on the real board.
+impl FeaturePipe for UsbBoard {
+    fn get_feature(&mut self, buf: &mut [u8; FEATURE_REPORT_LEN]) -> Result<usize, BoardError> {
+        self.link.transport_mut()?.get_feature(buf)
+    }
+
+    fn set_feature(&mut self, report: &[u8; FEATURE_REPORT_LEN]) -> Result<(), BoardError> {
+        self.link.transport_mut()?.set_feature(report)
     }
 }
 
@@ -275,6 +311,63 @@ pub(crate) fn open_first_match<D, T>(
     Err(last_error.unwrap_or(BoardError::NotFound { vid, pid }))
 }
 
+/// Opens the candidate whose ids match and whose serial number (`serial_of`) is
+/// `wanted`. With no candidate of those ids, [`BoardError::NotFound`]; with some but
+/// none of that serial number, [`BoardError::SerialNotFound`] listing what each had
+/// (its serial number quoted, or why it could not be read).
+pub(crate) fn open_by_serial<D, T>(
+    candidates: impl IntoIterator<Item = (u16, u16, D)>,
+    vid: u16,
+    pid: u16,
+    wanted: &str,
+    mut serial_of: impl FnMut(&D) -> Result<Option<String>, BoardError>,
+    open: impl FnOnce(D) -> Result<T, BoardError>,
+) -> Result<T, BoardError> {
+    let mut found = Vec::new();
+    for (candidate_vid, candidate_pid, device) in candidates {
+        if (candidate_vid, candidate_pid) != (vid, pid) {
+            continue;
+        }
+        match serial_of(&device) {
+            Ok(Some(serial)) if serial == wanted => return open(device),
+            Ok(Some(serial)) => found.push(format!("{serial:?}")),
+            Ok(None) => found.push("one without a serial number".to_owned()),
+            Err(e) => found.push(format!("one whose serial number could not be read ({e})")),
+        }
+    }
+    if found.is_empty() {
+        return Err(BoardError::NotFound { vid, pid });
+    }
+    Err(BoardError::SerialNotFound {
+        vid,
+        pid,
+        wanted: wanted.to_owned(),
+        found,
+    })
+}
+
+/// The serial number string of `device` (opened briefly to read it); `None` when its
+/// descriptor names none.
+fn read_serial(
+    device: &rusb::Device<Context>,
+    vid: u16,
+    pid: u16,
+) -> Result<Option<String>, BoardError> {
+    let descriptor = device
+        .device_descriptor()
+        .map_err(|e| open_error(e, vid, pid, "reading the device descriptor"))?;
+    if descriptor.serial_number_string_index().is_none() {
+        return Ok(None);
+    }
+    let handle = device
+        .open()
+        .map_err(|e| open_error(e, vid, pid, "opening the device"))?;
+    handle
+        .read_serial_number_string_ascii(&descriptor)
+        .map(Some)
+        .map_err(|e| open_error(e, vid, pid, "reading the serial number"))
+}
+
 /// How a libusb error on an open board is handled.
 pub(crate) fn classify(error: rusb::Error) -> TransportError {
     match error {
@@ -305,6 +398,8 @@ fn usb_bus_visible() -> bool {
 struct UsbConnector {
     vid: u16,
     pid: u16,
+    /// Only the board with this serial number string.
+    serial: Option<String>,
     /// Made on the first scan and kept; libusb tracks hot-plugged devices in it.
     context: Option<Context>,
 }
@@ -334,7 +429,13 @@ impl Connector for UsbConnector {
     type Transport = UsbTransport;
 
     fn describe(&self) -> String {
-        format!("USB {:04x}:{:04x} (not connected)", self.vid, self.pid)
+        match &self.serial {
+            Some(serial) => format!(
+                "USB {:04x}:{:04x} serial {serial:?} (not connected)",
+                self.vid, self.pid
+            ),
+            None => format!("USB {:04x}:{:04x} (not connected)", self.vid, self.pid),
+        }
     }
 
     fn connect(&mut self) -> Result<UsbTransport, BoardError> {
@@ -347,9 +448,19 @@ impl Connector for UsbConnector {
             let descriptor = device.device_descriptor().ok()?;
             Some((descriptor.vendor_id(), descriptor.product_id(), device))
         });
-        open_first_match(candidates, vid, pid, |device| {
-            UsbTransport::open(&device, vid, pid)
-        })
+        match &self.serial {
+            Some(wanted) => open_by_serial(
+                candidates,
+                vid,
+                pid,
+                wanted,
+                |device| read_serial(device, vid, pid),
+                |device| UsbTransport::open(&device, vid, pid),
+            ),
+            None => open_first_match(candidates, vid, pid, |device| {
+                UsbTransport::open(&device, vid, pid)
+            }),
+        }
     }
 }
 
@@ -363,6 +474,8 @@ struct UsbTransport {
     handle: Arc<DeviceHandle<Context>>,
     endpoints: Endpoints,
     name: String,
+    /// The serial number string, if it has one that could be read.
+    serial: Option<String>,
     events: Receiver<UsbEvent>,
     stop: Arc<AtomicBool>,
     reader: Option<JoinHandle<()>>,
@@ -387,6 +500,10 @@ impl UsbTransport {
         let handle = device
             .open()
             .map_err(|e| open_error(e, vid, pid, "opening the device"))?;
+        let serial = device
+            .device_descriptor()
+            .ok()
+            .and_then(|d| handle.read_serial_number_string_ascii(&d).ok());
         let interface = endpoints.interface;
         // Detach the kernel's HID driver on claim and re-attach it on release; where
         // libusb cannot do that automatically, detach by hand.
@@ -420,6 +537,7 @@ impl UsbTransport {
             handle,
             endpoints,
             name,
+            serial,
             events,
             stop,
             reader: Some(reader),
@@ -694,6 +812,90 @@ mod tests {
         let error = result.unwrap_err();
         assert!(matches!(error, BoardError::AccessDenied { .. }));
         assert!(error.to_string().contains("udev"), "{error}");
+    }
+
+    /// A board for `open_by_serial`: its number and its serial number (`Err`: it
+    /// cannot be read).
+    type SerialBoard = (u8, Result<Option<&'static str>, ()>);
+
+    /// Boards for `open_by_serial`, with their ids.
+    fn serial_boards() -> Vec<(u16, u16, SerialBoard)> {
+        vec![
+            (VENDOR_ID, PRODUCT_ID, (1, Ok(Some("E6614C311B4A2F30")))),
+            (0x046d, 0xc077, (2, Ok(Some("WANTED")))),
+            (VENDOR_ID, PRODUCT_ID, (3, Ok(None))),
+            (VENDOR_ID, PRODUCT_ID, (4, Err(()))),
+            (VENDOR_ID, PRODUCT_ID, (5, Ok(Some("E6614C311B4A9999")))),
+        ]
+    }
+
+    fn serial_of(device: &SerialBoard) -> Result<Option<String>, BoardError> {
+        device
+            .1
+            .map(|s| s.map(str::to_owned))
+            .map_err(|()| BoardError::AccessDenied {
+                vid: VENDOR_ID,
+                pid: PRODUCT_ID,
+            })
+    }
+
+    #[test]
+    fn the_board_with_the_serial_number_is_opened() {
+        let opened = open_by_serial(
+            serial_boards(),
+            VENDOR_ID,
+            PRODUCT_ID,
+            "E6614C311B4A9999",
+            serial_of,
+            |device| Ok(device.0),
+        );
+        assert_eq!(opened.unwrap(), 5);
+        // Only boards with the board's ids count: another device's serial never does.
+        let error = open_by_serial(
+            serial_boards(),
+            VENDOR_ID,
+            PRODUCT_ID,
+            "WANTED",
+            serial_of,
+            |device| -> Result<u8, BoardError> { panic!("opened {}", device.0) },
+        )
+        .unwrap_err();
+        let BoardError::SerialNotFound { wanted, found, .. } = &error else {
+            panic!("{error:?}");
+        };
+        assert_eq!(wanted, "WANTED");
+        assert_eq!(found.len(), 4, "{found:?}");
+        let text = error.to_string();
+        for part in [
+            "\"WANTED\"",
+            "\"E6614C311B4A2F30\"",
+            "\"E6614C311B4A9999\"",
+            "without a serial number",
+            "could not be read",
+            "udev",
+        ] {
+            assert!(text.contains(part), "{part} missing: {text}");
+        }
+        assert!(!text.contains('\n'), "{text}");
+    }
+
+    #[test]
+    fn looking_for_a_serial_number_with_no_board_is_not_found() {
+        let none: Vec<(u16, u16, SerialBoard)> = Vec::new();
+        let error =
+            open_by_serial(none, VENDOR_ID, PRODUCT_ID, "X", serial_of, |d| Ok(d.0)).unwrap_err();
+        assert!(matches!(error, BoardError::NotFound { .. }), "{error:?}");
+        // A board that opens with an error reports it.
+        let error = open_by_serial(
+            serial_boards(),
+            VENDOR_ID,
+            PRODUCT_ID,
+            "E6614C311B4A2F30",
+            serial_of,
+            |_| -> Result<u8, BoardError> { Err(BoardError::Usb("claiming".into())) },
+        )
+        .unwrap_err();
+        assert!(matches!(error, BoardError::Usb(_)), "{error:?}");
     }
 
     #[test]

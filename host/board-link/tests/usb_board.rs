@@ -2,7 +2,7 @@
 
 use std::time::Duration;
 
-use board_link::{Board, BoardError, LinkState, UsbBoard};
+use board_link::{Board, BoardError, FeaturePipe, LinkState, UsbBoard};
 use foosball_protocol::usb::{PRODUCT_ID, VENDOR_ID};
 use foosball_protocol::OutReport;
 
@@ -58,6 +58,35 @@ fn an_absent_board_is_polled_without_panicking() {
         Err(BoardError::Disconnected)
     ));
     assert!(board.name().contains("1209:fff0"), "{}", board.name());
+}
+
+#[test]
+fn a_serial_number_no_board_has_is_not_found() {
+    match UsbBoard::open_serial("NO-SUCH-SERIAL") {
+        Err(BoardError::NotFound { vid, pid }) => assert_eq!((vid, pid), (VENDOR_ID, PRODUCT_ID)),
+        // Developers with boards plugged in: the error lists what they have.
+        Err(e @ BoardError::SerialNotFound { .. }) => {
+            let message = e.to_string();
+            assert!(message.contains("\"NO-SUCH-SERIAL\""), "{message}");
+        }
+        Err(BoardError::AccessDenied { .. }) => {}
+        other => panic!("expected no board with that serial number, got {other:?}"),
+    }
+}
+
+#[test]
+fn feature_requests_to_an_absent_board_fail_cleanly() {
+    let mut board = UsbBoard::new(VENDOR_ID, 0xFFF0);
+    assert!(matches!(
+        FeaturePipe::device_info(&mut board),
+        Err(BoardError::NotFound { .. })
+    ));
+    assert!(matches!(
+        FeaturePipe::enter_bootloader(&mut board),
+        Err(BoardError::NotFound { .. })
+    ));
+    assert_eq!(board.serial_number(), None);
+    assert_eq!(board.wanted_serial(), None);
 }
 
 #[test]

@@ -5,7 +5,7 @@
 //! short-and-wide (broad shoulders, big pads, a wide helmet) differ in silhouette, not
 //! only in tint. Each man also casts a contact shadow on the cloth under his boots.
 
-use crate::scene::{cuboid, rgba, scale3, team_color, MeshInstance, Scene, Sprite};
+use crate::instances::{cuboid, rgba, scale3, team_color, MeshInstance, Scene, Sprite};
 use crate::view::{CharacterKind, CharacterLook, FrameSnapshot, Team};
 use glam::{Quat, Vec3};
 

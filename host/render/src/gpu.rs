@@ -7,6 +7,16 @@ use crate::RenderError;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
+mod device;
+mod readback;
+
+#[cfg(target_arch = "wasm32")]
+pub(crate) use device::new_browser_instance;
+pub(crate) use device::{new_instance, open_device, open_device_async, popped_error};
+#[cfg(test)]
+pub(crate) use readback::unpad_rows;
+pub(crate) use readback::{copy_to_buffer, padded_row_bytes, read_buffer};
+
 /// The colour format of offscreen pictures (a window uses its surface's format).
 pub(crate) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -754,194 +764,6 @@ impl Renderer {
     /// The colour format pictures are drawn in.
     pub fn color_format(&self) -> wgpu::TextureFormat {
         self.color_format
-    }
-}
-
-/// Maps `buffer` (a copied `width × height` picture in `format` with rows of `padded_row`
-/// bytes), waits for the GPU and returns the picture as RGBA.
-pub(crate) fn read_buffer(
-    device: &wgpu::Device,
-    buffer: &wgpu::Buffer,
-    padded_row: u32,
-    width: u32,
-    height: u32,
-    format: wgpu::TextureFormat,
-) -> Result<RgbaImage, RenderError> {
-    let slice = buffer.slice(..);
-    let (tx, rx) = std::sync::mpsc::channel();
-    slice.map_async(wgpu::MapMode::Read, move |r| {
-        let _ = tx.send(r);
-    });
-    device
-        .poll(wgpu::PollType::Wait)
-        .map_err(|e| RenderError::Gpu(e.to_string()))?;
-    rx.recv()
-        .map_err(|e| RenderError::Gpu(e.to_string()))?
-        .map_err(|e| RenderError::Gpu(e.to_string()))?;
-    let data = unpad_rows(&slice.get_mapped_range(), padded_row, width, format);
-    buffer.unmap();
-    Ok(RgbaImage::new(width, height, data))
-}
-
-/// Copies `texture` (`width × height`, 4 bytes per pixel) into `buffer` with rows of
-/// `padded_row` bytes.
-pub(crate) fn copy_to_buffer(
-    enc: &mut wgpu::CommandEncoder,
-    texture: &wgpu::Texture,
-    buffer: &wgpu::Buffer,
-    padded_row: u32,
-    width: u32,
-    height: u32,
-) {
-    enc.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::All,
-        },
-        wgpu::TexelCopyBufferInfo {
-            buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded_row),
-                rows_per_image: Some(height),
-            },
-        },
-        wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-    );
-}
-
-/// Bytes per row of a `width`-pixel, 4-byte-per-pixel copy, padded as wgpu requires.
-pub(crate) fn padded_row_bytes(width: u32) -> u32 {
-    (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT
-}
-
-/// Tightly packed RGBA bytes from padded rows of `format` pixels (BGRA formats are
-/// swizzled to RGBA).
-pub(crate) fn unpad_rows(
-    mapped: &[u8],
-    padded_row: u32,
-    width: u32,
-    format: wgpu::TextureFormat,
-) -> Vec<u8> {
-    let bgra = matches!(
-        format,
-        wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb
-    );
-    let row_bytes = (width * 4) as usize;
-    let mut data = Vec::with_capacity(row_bytes * (mapped.len() / padded_row.max(1) as usize));
-    for row in mapped.chunks(padded_row as usize) {
-        let row = &row[..row_bytes.min(row.len())];
-        if bgra {
-            for px in row.chunks_exact(4) {
-                data.extend_from_slice(&[px[2], px[1], px[0], px[3]]);
-            }
-        } else {
-            data.extend_from_slice(row);
-        }
-    }
-    data
-}
-
-/// A wgpu instance with every backend compiled in.
-pub(crate) fn new_instance() -> wgpu::Instance {
-    wgpu::Instance::new(&instance_descriptor())
-}
-
-fn instance_descriptor() -> wgpu::InstanceDescriptor {
-    wgpu::InstanceDescriptor {
-        backends: wgpu::Backends::all(),
-        ..Default::default()
-    }
-}
-
-/// A wgpu instance for the page: WebGPU where the browser gives an adapter for it (a
-/// `navigator.gpu` without one, as in a browser whose WebGPU is switched off for this
-/// GPU, is not enough), else WebGL2, when the embedding crate enables both.
-#[cfg(target_arch = "wasm32")]
-pub(crate) async fn new_browser_instance() -> wgpu::Instance {
-    wgpu::util::new_instance_with_webgpu_detection(&instance_descriptor()).await
-}
-
-/// The first adapter that can draw (to `surface` when given: a hardware GPU, else a
-/// fallback/software one such as Mesa's lavapipe) and a device on it.
-pub(crate) fn open_device(
-    instance: &wgpu::Instance,
-    surface: Option<&wgpu::Surface<'_>>,
-) -> Result<(wgpu::Adapter, wgpu::Device, wgpu::Queue), RenderError> {
-    pollster::block_on(open_device_async(instance, surface))
-}
-
-/// [`open_device`], awaiting the adapter and the device (in a browser, WebGPU's
-/// promises complete only once the page's event loop runs).
-pub(crate) async fn open_device_async(
-    instance: &wgpu::Instance,
-    surface: Option<&wgpu::Surface<'_>>,
-) -> Result<(wgpu::Adapter, wgpu::Device, wgpu::Queue), RenderError> {
-    let mut opts = wgpu::RequestAdapterOptions {
-        power_preference: wgpu::PowerPreference::HighPerformance,
-        force_fallback_adapter: false,
-        compatible_surface: surface,
-    };
-    let adapter = match instance.request_adapter(&opts).await {
-        Ok(a) => a,
-        Err(first) => {
-            opts.force_fallback_adapter = true;
-            instance
-                .request_adapter(&opts)
-                .await
-                .map_err(|_| RenderError::NoAdapter(first.to_string()))?
-        }
-    };
-    let (device, queue) = adapter
-        .request_device(&wgpu::DeviceDescriptor {
-            label: Some("foosball-render"),
-            required_features: wgpu::Features::empty(),
-            required_limits: base_limits().using_resolution(adapter.limits()),
-            ..Default::default()
-        })
-        .await
-        .map_err(|e| RenderError::Device(e.to_string()))?;
-    Ok((adapter, device, queue))
-}
-
-/// Pops the device's error scope and returns the error it caught. Natively the answer
-/// is awaited; in a browser it is taken only when it is there at once (WebGL2's always
-/// is, WebGPU's arrives later and is not waited for: the page cannot block, so a
-/// validation error there goes unreported rather than stopping the game).
-pub(crate) fn popped_error(device: &wgpu::Device) -> Option<wgpu::Error> {
-    let popped = device.pop_error_scope();
-    #[cfg(not(target_arch = "wasm32"))]
-    {
-        pollster::block_on(popped)
-    }
-    #[cfg(target_arch = "wasm32")]
-    {
-        use std::future::Future;
-        use std::task::{Context, Poll, Waker};
-        let mut popped = std::pin::pin!(popped);
-        match popped
-            .as_mut()
-            .poll(&mut Context::from_waker(Waker::noop()))
-        {
-            Poll::Ready(e) => e,
-            Poll::Pending => None,
-        }
-    }
-}
-
-/// The limits asked of the device: wgpu's downlevel defaults; in a browser WebGL2's
-/// (no compute, no storage buffers: the pipelines use neither).
-fn base_limits() -> wgpu::Limits {
-    if cfg!(target_arch = "wasm32") {
-        wgpu::Limits::downlevel_webgl2_defaults()
-    } else {
-        wgpu::Limits::downlevel_defaults()
     }
 }
 

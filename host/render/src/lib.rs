@@ -19,6 +19,8 @@ pub mod demo;
 pub mod font;
 mod gpu;
 mod image;
+mod instances;
+mod overlay;
 pub mod scene;
 pub mod view;
 mod window;

@@ -12,34 +12,24 @@
 //!   reports queued for the page.
 //! * [`frame_stats`]: frame times in the page (the status line reports them).
 //! * [`keyboard`]: the page's emulated board, moved by keys, the mouse and a gamepad.
-//! * [`flow`], [`view`], [`script`], [`controls`], [`calibrate`]: the desktop program's
-//!   own screens' flow, game → view conversion, scripted keys, keyboard / mouse / gamepad
-//!   controls and calibration mode, compiled here from the same source files.
+//! * [`flow`], [`view`], [`script`], [`controls`], [`calibrate`]: the screens' flow,
+//!   game → view conversion, scripted keys, keyboard / mouse / gamepad controls and
+//!   calibration mode the desktop program has too (`space-foosball-front`).
 //!
 //! On `wasm32` only, `web`: the winit window on the page's canvas, the animation-frame
 //! loop, and the functions the page's JavaScript calls (WebHID reports in, OUT reports
-//! out, the status line); and `gamepad`, the desktop's gamepad reader (gilrs, whose wasm
-//! backend reads the Gamepad API).
+//! out, the status line); and the front end's gamepad reader (gilrs, whose wasm backend
+//! reads the Gamepad API).
 
 pub mod board;
-#[path = "../../app/src/window/calibrate.rs"]
-pub mod calibrate;
 pub mod calibration_store;
-#[path = "../../app/src/window/controls.rs"]
-pub mod controls;
-#[path = "../../app/src/window/flow.rs"]
-pub mod flow;
 pub mod frame_stats;
-#[cfg(target_arch = "wasm32")]
-#[path = "../../app/src/window/gamepad.rs"]
-mod gamepad;
 pub mod keyboard;
-#[path = "../../app/src/window/script.rs"]
-pub mod script;
 pub mod session;
 pub mod status;
 pub mod stepper;
-#[path = "../../app/src/view.rs"]
-pub mod view;
+#[cfg(target_arch = "wasm32")]
+use space_foosball_front::gamepad;
+pub use space_foosball_front::{calibrate, controls, flow, script, view};
 #[cfg(target_arch = "wasm32")]
 mod web;

@@ -20,28 +20,22 @@
 use crate::board::BrowserBoard;
 use crate::calibrate::Calibrator;
 use crate::calibration_store::{self, CalibrationStore};
-use crate::flow::{Action, Flow, Stage, PUSH_SPEED_M_S};
+use crate::flow::{Action, Flow, Stage};
 use crate::keyboard::KeyboardBoard;
 use crate::stepper::Stepper;
-use crate::view;
 use board_link::Board;
 use foosball_audio::Sound;
-use foosball_render::scene::PARTICLE_LIFETIME_S;
-use foosball_render::{
-    BallSnapshot, EventKind, FrameSnapshot, Hud, RenderEvent, RodPose, Screen, TableGeometry,
-};
+use foosball_render::{FrameSnapshot, Hud, Screen};
 use space_foosball::input::calibration::Calibration;
 use space_foosball::input::paddles::{
     BoardInput, InputHealth, PaddleTracker, RodInputs, MOUSE_PACKET_PREDICTION_MS, PS2_WIRE_LEAD_MS,
 };
 use space_foosball::play::{KickHaptics, Match, MatchConfig, MatchSnapshot, RodController};
-use space_foosball::rules::{Event, Phase, TimedEvent};
+use space_foosball::rules::{Phase, TimedEvent};
 use space_foosball::table::{CharacterType, Table};
+use space_foosball_front::frame::{self, HudState};
+use space_foosball_front::match_scene::MatchScene;
 
-/// How long the goal ceremony shows after a goal, s (as on the desktop).
-pub const GOAL_CEREMONY_S: f64 = 2.5;
-/// Bounces softer than this make no sound, m/s (as on the desktop).
-pub const QUIET_BOUNCE_M_S: f64 = 0.25;
 /// The most reports one physics step takes from the board (a backlog after a stall).
 const REPORTS_PER_STEP: usize = 32;
 /// How long a notice (calibration saved, or not used) stays on screen, s.
@@ -103,14 +97,12 @@ pub struct WebSession {
     stepper: Stepper,
     /// 1 ms steps of the schedule so far, paused ones included.
     ticks: u64,
-    match_table: Table,
-    match_view: TableGeometry,
+    /// The match as the frames draw it.
+    scene: MatchScene,
     controllers: [RodController; 2],
     haptics: Option<KickHaptics>,
     flow: Flow,
     pending: Vec<TimedEvent>,
-    events: Vec<RenderEvent>,
-    last_goal_s: Option<f64>,
     user_paused: bool,
     seed: u64,
     key_hints: Vec<String>,
@@ -129,11 +121,6 @@ pub struct WebSession {
     /// The clock of the newest frame, s.
     now_s: f64,
 }
-
-/// How long the key hints stay fully shown once play starts, s.
-const HINTS_SHOWN_S: f64 = 4.0;
-/// How long they then take to fade out, s.
-const HINTS_FADE_S: f64 = 2.0;
 
 /// The tracker of `table`'s rods read through `calibration`, predicting the pose
 /// between mouse packets as on the desktop.
@@ -170,8 +157,7 @@ impl WebSession {
         let rest = snap.clone();
         Ok(WebSession {
             flow: Flow::new(&table, 0.0),
-            match_table: table.clone(),
-            match_view: view::table_geometry(&table),
+            scene: MatchScene::new(&table),
             controllers: [RodController::Computer; 2],
             source: Source::Keyboard(Box::new(KeyboardBoard::new(&table))),
             input,
@@ -184,8 +170,6 @@ impl WebSession {
             table,
             haptics: None,
             pending: Vec::new(),
-            events: Vec::new(),
-            last_goal_s: None,
             user_paused: false,
             seed: seed.wrapping_add(1),
             key_hints: vec![
@@ -408,8 +392,7 @@ impl WebSession {
     }
 
     fn run_match(&mut self, config: MatchConfig) -> anyhow::Result<()> {
-        self.match_table = config.table.clone();
-        self.match_view = view::table_geometry(&config.table);
+        self.scene.restart(&config.table);
         self.controllers = config.controllers;
         self.haptics = config
             .controllers
@@ -419,8 +402,6 @@ impl WebSession {
         let snap = self.game.snapshot();
         self.snapshots = (snap.clone(), snap);
         self.pending.clear();
-        self.events.clear();
-        self.last_goal_s = None;
         self.user_paused = false;
         self.seed = self.seed.wrapping_add(1);
         Ok(())
@@ -508,7 +489,7 @@ impl WebSession {
             }
         }
         let stage = self.flow.stage();
-        if stage == Stage::Playing && self.user_paused && rods_pushed(&rods) {
+        if stage == Stage::Playing && self.user_paused && frame::rods_pushed(&rods) {
             self.user_paused = false;
         }
         let (prev, newest) = if stage == Stage::Calibration {
@@ -518,39 +499,11 @@ impl WebSession {
         };
         let drained = std::mem::take(&mut self.pending);
         self.take_events(&drained, &newest, now_s, &mut sounds);
-        if stage != Stage::Playing && stage_before != Stage::Playing {
-            // Only a match someone plays makes match sounds (as on the desktop).
-            sounds.retain(|s| matches!(s, Sound::MenuTick | Sound::MenuConfirm));
-        }
-        let mut snapshot = self.interpolated(&prev, &newest);
-        if stage == Stage::CharacterSelect {
-            for (i, c) in self.flow.characters().into_iter().enumerate() {
-                snapshot.table.characters[i] = view::kind(c);
-            }
-        }
-        if stage == Stage::Calibration {
-            // The rod being calibrated glows on the table.
-            snapshot.held_rods.extend(self.calibration_rod());
-        }
+        frame::keep_match_sounds_in_play(stage, stage_before, &mut sounds);
+        let mut snapshot = self.scene.interpolated(&prev, &newest);
+        frame::mark_table(&mut snapshot, stage, &self.flow, self.calibration_rod());
         let lost = rods.health == InputHealth::BoardLost;
-        let screen = if lost {
-            Screen::BoardLost
-        } else {
-            match stage {
-                Stage::Attract => Screen::Attract,
-                Stage::CharacterSelect => Screen::CharacterSelect,
-                Stage::Playing
-                    if self
-                        .last_goal_s
-                        .is_some_and(|t| now_s - t < GOAL_CEREMONY_S) =>
-                {
-                    Screen::GoalCeremony
-                }
-                Stage::Playing => Screen::Match,
-                Stage::FinalResult => Screen::FinalResult,
-                Stage::Calibration => Screen::Calibration,
-            }
-        };
+        let screen = frame::screen(stage, lost, self.scene.goal_ceremony(now_s));
         let hud = self.hud(stage, lost, now_s);
         Ok(FrameOut {
             snapshot,
@@ -565,74 +518,23 @@ impl WebSession {
         })
     }
 
-    fn hud(&self, stage: Stage, lost: bool, now_s: f64) -> Hud {
-        let mut hud = match (&self.calibrator, stage) {
-            (Some(c), Stage::Calibration) => c.hud(),
-            _ => Hud::default(),
-        };
-        if lost {
-            hud.lines.push(format!("BOARD: {}", self.board_name()));
-            return hud;
-        }
-        if stage == Stage::Playing && self.user_paused {
-            hud.heading = "PAUSED\nPUSH A ROD OR ENTER TO RESUME".into();
-        }
-        if stage == Stage::CharacterSelect {
-            let who = self
-                .flow
-                .joined()
-                .map(|j| if j { "PLAYER" } else { "COMPUTER" }.to_string());
-            hud.team_notes = Some(who);
-        }
-        if matches!(stage, Stage::Attract | Stage::Playing) {
-            hud.lines.extend(self.key_hints.iter().cloned());
-        }
-        let notice = self
-            .notice
-            .as_ref()
-            .filter(|(_, until)| until.is_some_and(|u| now_s < u) && stage != Stage::Calibration)
-            .map(|(msg, _)| msg);
-        if stage == Stage::Playing && notice.is_none() {
-            // The key hints fade once play starts: shown 4 s, gone after 6 s (a notice
-            // keeps them all shown).
-            let played = now_s - self.flow.since_s();
-            hud.lines_opacity =
-                (1.0 - ((played - HINTS_SHOWN_S) / HINTS_FADE_S)).clamp(0.0, 1.0) as f32;
-        }
-        hud.lines.extend(notice.cloned());
-        hud
-    }
-
-    fn frame_snapshot(&self, s: &MatchSnapshot) -> FrameSnapshot {
-        let rods: Vec<RodPose> = s
-            .rods
-            .iter()
-            .map(|r| RodPose {
-                slide_m: r.slide_m,
-                angle_rad: r.angle_rad,
-            })
-            .collect();
-        let ball = BallSnapshot {
-            position: s.ball.position,
-            velocity: s.ball.velocity,
-        };
-        FrameSnapshot::posed(
-            &self.match_view,
-            s.time_s,
-            &rods,
-            ball,
-            s.score,
-            self.events.clone(),
-        )
-    }
-
-    /// The scene between the two newest steps (1 ms apart): drawn half a step behind
-    /// the newest, never extrapolated (as on the desktop).
-    fn interpolated(&self, prev: &MatchSnapshot, newest: &MatchSnapshot) -> FrameSnapshot {
-        let a = self.frame_snapshot(prev);
-        let b = self.frame_snapshot(newest);
-        let t = 0.5 * (prev.time_s + newest.time_s);
-        FrameSnapshot::at_time(&a, &b, t)
+    fn hud(&self, stage: Stage, lost: bool, now: f64) -> Hud {
+        frame::hud(&HudState {
+            stage,
+            lost,
+            board_name: self.board_name(),
+            flow: &self.flow,
+            calibrator: self.calibrator.as_ref(),
+            user_paused: self.user_paused,
+            paused_heading: "PAUSED\nPUSH A ROD OR ENTER TO RESUME",
+            key_hints: &self.key_hints,
+            notice: self
+                .notice
+                .as_ref()
+                .filter(|(_, until)| until.is_some_and(|u| now < u) && stage != Stage::Calibration)
+                .map(|(msg, _)| msg.as_str()),
+            now_s: now,
+        })
     }
 
     fn take_events(
@@ -642,50 +544,9 @@ impl WebSession {
         now_s: f64,
         sounds: &mut Vec<Sound>,
     ) {
-        let ball = newest.ball.position;
-        for e in events {
-            let time_s = e.t_ms as f64 * 1e-3;
-            match e.event {
-                Event::Kick { speed, .. } => {
-                    self.counters.kicks += 1;
-                    self.events.push(RenderEvent {
-                        time_s,
-                        kind: EventKind::Kick,
-                        position: ball,
-                        speed,
-                    });
-                    sounds.push(Sound::Kick {
-                        speed_m_s: speed as f32,
-                    });
-                }
-                Event::Bounce { speed } => {
-                    self.events.push(RenderEvent {
-                        time_s,
-                        kind: EventKind::Bounce,
-                        position: ball,
-                        speed,
-                    });
-                    if speed >= QUIET_BOUNCE_M_S {
-                        sounds.push(Sound::Bounce {
-                            speed_m_s: speed as f32,
-                        });
-                    }
-                }
-                Event::Goal { side, .. } => {
-                    self.counters.goals += 1;
-                    let x = self.match_table.goal_line_x(side.other());
-                    self.events.push(RenderEvent {
-                        time_s,
-                        kind: EventKind::Goal(view::team(side)),
-                        position: [x, 0.0, 0.03],
-                        speed: 4.0,
-                    });
-                    self.last_goal_s = Some(now_s);
-                    sounds.push(Sound::GoalFanfare);
-                }
-                Event::Serve { .. } | Event::MatchOver { .. } => {}
-            }
-        }
+        let counts = self.scene.take_events(events, newest, now_s, sounds);
+        self.counters.kicks += counts.kicks;
+        self.counters.goals += counts.goals;
         // Haptics: a person's kicks pulse their paddle.
         if let Some(h) = &mut self.haptics {
             for report in h.reports(events) {
@@ -693,18 +554,7 @@ impl WebSession {
                 let _ = self.input.board_mut().send(&report);
             }
         }
-        let horizon = newest.time_s - PARTICLE_LIFETIME_S - 0.5;
-        self.events.retain(|e| e.time_s >= horizon);
     }
-}
-
-/// Whether any rod is being pushed (resumes a paused match).
-fn rods_pushed(rods: &RodInputs) -> bool {
-    rods.health == InputHealth::Live
-        && rods
-            .rods
-            .iter()
-            .any(|r| r.slide_velocity_m_per_s.abs() >= PUSH_SPEED_M_S)
 }
 
 #[cfg(test)]

@@ -46,7 +46,7 @@ pub struct WindowArgs {
     /// Write the frame the window presents last (at --exit-after-s) to this PNG.
     #[arg(long, hide = true, requires = "exit_after_s")]
     pub capture_window: Option<PathBuf>,
-    /// Scripted key presses: `start`, or SECONDS:KEY[+|-],… (see window/script.rs).
+    /// Scripted key presses: `start`, or SECONDS:KEY[+|-],… (see `space_foosball_front::script`).
     #[arg(long, hide = true, value_parser = parse_script)]
     pub demo_input: Option<Script>,
 }

@@ -50,13 +50,16 @@ pub struct Opened {
     pub notice: Option<String>,
 }
 
+/// The built-in emulated board the game plays on (rods following live targets, the
+/// default board configuration), paced by `pacing`, with the setter of its rods'
+/// targets.
+pub fn emulated_board(pacing: Pacing) -> Result<(InProcessBoard, LiveHandle)> {
+    InProcessBoard::live(BoardConfig::default(), LiveLimits::default(), pacing)
+        .context("could not start the emulated board")
+}
+
 fn emulated() -> Result<(Box<dyn Board>, LiveHandle)> {
-    let (board, live) = InProcessBoard::live(
-        BoardConfig::default(),
-        LiveLimits::default(),
-        Pacing::RealTime,
-    )
-    .context("could not start the emulated board")?;
+    let (board, live) = emulated_board(Pacing::RealTime)?;
     Ok((Box::new(board), live))
 }
 

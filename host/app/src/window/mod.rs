@@ -12,15 +12,11 @@
 
 pub mod args;
 pub mod board;
-pub mod calibrate;
 #[cfg(test)]
 mod calibration_e2e;
-pub mod controls;
 pub(crate) mod cpu;
-pub mod flow;
-pub mod gamepad;
-pub mod script;
 pub mod session;
+pub use space_foosball_front::{calibrate, controls, flow, gamepad, script};
 
 use anyhow::{anyhow, Context, Result};
 use board::BoardChoice;

@@ -21,10 +21,7 @@ use super::flow::{Action, Flow, Stage};
 use board_link::{Board, BoardError, LinkState, LinkStats};
 use foosball_audio::Sound;
 use foosball_protocol::{InReport, OutReport};
-use foosball_render::scene::PARTICLE_LIFETIME_S;
-use foosball_render::{
-    BallSnapshot, EventKind, FrameSnapshot, Hud, RenderEvent, RodPose, Screen, TableGeometry,
-};
+use foosball_render::{FrameSnapshot, Hud, Screen};
 use space_foosball::input::calibration::Calibration;
 use space_foosball::input::paddles::{
     BoardInput, InputHealth, RodInputs, MOUSE_PACKET_PREDICTION_MS, PS2_WIRE_LEAD_MS,
@@ -32,17 +29,15 @@ use space_foosball::input::paddles::{
 use space_foosball::play::{
     KickHaptics, Match, MatchConfig, MatchSnapshot, PhysicsThread, RodController,
 };
-use space_foosball::rules::{Event, Phase, TimedEvent};
+use space_foosball::rules::{Phase, TimedEvent};
 use space_foosball::table::{CharacterType, Table};
-use space_foosball_app::view;
+use space_foosball_front::frame::{self, HudState};
+use space_foosball_front::match_scene::MatchScene;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
-/// How long the goal ceremony shows after a goal, s.
-pub const GOAL_CEREMONY_S: f64 = 2.5;
-/// Bounces softer than this make no sound, m/s.
-pub const QUIET_BOUNCE_M_S: f64 = 0.25;
+pub use space_foosball_front::match_scene::QUIET_BOUNCE_M_S;
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     // Plain data: a panic elsewhere cannot leave it half-updated.
@@ -117,14 +112,11 @@ pub struct Session {
     input: Arc<Mutex<BoardInput<SharedBoard>>>,
     latest: Arc<Mutex<RodInputs>>,
     physics: Option<PhysicsThread>,
-    match_table: Table,
-    /// The match table as drawn.
-    match_view: TableGeometry,
+    /// The match as the frames draw it.
+    scene: MatchScene,
     controllers: [RodController; 2],
     haptics: Option<KickHaptics>,
     flow: Flow,
-    events: Vec<RenderEvent>,
-    last_goal_s: Option<f64>,
     user_paused: bool,
     calibrator: Option<Calibrator>,
     calibration: Calibration,
@@ -135,11 +127,6 @@ pub struct Session {
     /// The table at rest (shown behind calibration, where no match runs).
     rest: MatchSnapshot,
 }
-
-/// How long the key hints stay fully shown once play starts, s.
-const HINTS_SHOWN_S: f64 = 4.0;
-/// How long they then take to fade out, s.
-const HINTS_FADE_S: f64 = 2.0;
 
 /// The board's input tracker with pose prediction between mouse packets (one packet
 /// period plus the PS/2 wire time ahead), which brings the input-to-rod latency from
@@ -172,8 +159,7 @@ impl Session {
         let rest = Match::new(MatchConfig::computer_vs_computer(table.clone(), 0))?.snapshot();
         let mut s = Session {
             flow: Flow::new(&table, 0.0),
-            match_table: table.clone(),
-            match_view: view::table_geometry(&table),
+            scene: MatchScene::new(&table),
             controllers: [RodController::Computer; 2],
             table,
             board,
@@ -181,8 +167,6 @@ impl Session {
             latest: Arc::new(Mutex::new(latest)),
             physics: None,
             haptics: None,
-            events: Vec::new(),
-            last_goal_s: None,
             user_paused: false,
             calibrator: None,
             calibration,
@@ -222,8 +206,7 @@ impl Session {
 
     fn run_match(&mut self, config: MatchConfig) -> anyhow::Result<()> {
         self.physics = None; // stops and joins the previous match
-        self.match_table = config.table.clone();
-        self.match_view = view::table_geometry(&config.table);
+        self.scene.restart(&config.table);
         self.controllers = config.controllers;
         self.haptics = config
             .controllers
@@ -237,8 +220,6 @@ impl Session {
             *lock(&latest) = inputs.clone();
             inputs
         }));
-        self.events.clear();
-        self.last_goal_s = None;
         self.user_paused = false;
         self.seed = self.seed.wrapping_add(1);
         Ok(())
@@ -393,7 +374,7 @@ impl Session {
             }
         }
         let stage = self.flow.stage();
-        if stage == Stage::Playing && self.user_paused && rods_pushed(&rods) {
+        if stage == Stage::Playing && self.user_paused && frame::rods_pushed(&rods) {
             self.set_user_paused(false);
         }
         let (prev, newest) = match &self.physics {
@@ -406,37 +387,11 @@ impl Session {
             .map(PhysicsThread::drain_events)
             .unwrap_or_default();
         self.take_events(&drained, &newest, now, &mut sounds);
-        if stage != Stage::Playing && stage_before != Stage::Playing {
-            // Only a match someone plays makes match sounds; the attract match behind
-            // the menus is silent (its particles still show).
-            sounds.retain(|s| matches!(s, Sound::MenuTick | Sound::MenuConfirm));
-        }
-        let mut snapshot = self.interpolated(&prev, &newest);
-        if stage == Stage::CharacterSelect {
-            // The selection screen names the characters from the table it shows.
-            for (i, c) in self.flow.characters().into_iter().enumerate() {
-                snapshot.table.characters[i] = view::kind(c);
-            }
-        }
-        if stage == Stage::Calibration {
-            // The rod being calibrated glows on the table.
-            snapshot.held_rods.extend(self.calibration_rod());
-        }
+        frame::keep_match_sounds_in_play(stage, stage_before, &mut sounds);
+        let mut snapshot = self.scene.interpolated(&prev, &newest);
+        frame::mark_table(&mut snapshot, stage, &self.flow, self.calibration_rod());
         let lost = rods.health == InputHealth::BoardLost;
-        let screen = if lost {
-            Screen::BoardLost
-        } else {
-            match stage {
-                Stage::Attract => Screen::Attract,
-                Stage::CharacterSelect => Screen::CharacterSelect,
-                Stage::Playing if self.last_goal_s.is_some_and(|t| now - t < GOAL_CEREMONY_S) => {
-                    Screen::GoalCeremony
-                }
-                Stage::Playing => Screen::Match,
-                Stage::FinalResult => Screen::FinalResult,
-                Stage::Calibration => Screen::Calibration,
-            }
-        };
+        let screen = frame::screen(stage, lost, self.scene.goal_ceremony(now));
         let hud = self.hud(stage, lost, now);
         Ok(FrameOut {
             snapshot,
@@ -451,73 +406,22 @@ impl Session {
     }
 
     fn hud(&self, stage: Stage, lost: bool, now: f64) -> Hud {
-        let mut hud = match (&self.calibrator, stage) {
-            (Some(c), Stage::Calibration) => c.hud(),
-            _ => Hud::default(),
-        };
-        if lost {
-            hud.lines.push(format!("BOARD: {}", self.board.name()));
-            return hud;
-        }
-        if stage == Stage::Playing && self.user_paused {
-            hud.heading = "PAUSED\nPUSH A ROD OR ENTER TO RESUME - ESC TO QUIT".into();
-        }
-        if stage == Stage::CharacterSelect {
-            let who = self
-                .flow
-                .joined()
-                .map(|j| if j { "PLAYER" } else { "COMPUTER" }.to_string());
-            hud.team_notes = Some(who);
-        }
-        if matches!(stage, Stage::Attract | Stage::Playing) {
-            hud.lines.extend(self.options.key_hints.iter().cloned());
-        }
-        let notice = self.notice.as_ref().is_some_and(|(_, until)| now < *until);
-        if stage == Stage::Playing && !notice {
-            // The key hints fade once play starts: shown 4 s, gone after 6 s (a notice
-            // keeps them all shown).
-            let played = now - self.flow.since_s();
-            hud.lines_opacity =
-                (1.0 - ((played - HINTS_SHOWN_S) / HINTS_FADE_S)).clamp(0.0, 1.0) as f32;
-        }
-        if let Some((msg, until)) = &self.notice {
-            if now < *until {
-                hud.lines.push(msg.clone());
-            }
-        }
-        hud
-    }
-
-    fn frame_snapshot(&self, s: &MatchSnapshot) -> FrameSnapshot {
-        let rods: Vec<RodPose> = s
-            .rods
-            .iter()
-            .map(|r| RodPose {
-                slide_m: r.slide_m,
-                angle_rad: r.angle_rad,
-            })
-            .collect();
-        let ball = BallSnapshot {
-            position: s.ball.position,
-            velocity: s.ball.velocity,
-        };
-        FrameSnapshot::posed(
-            &self.match_view,
-            s.time_s,
-            &rods,
-            ball,
-            s.score,
-            self.events.clone(),
-        )
-    }
-
-    /// The scene between the two newest snapshots (1 ms apart at 1 kHz): drawn half a
-    /// step behind the newest, never extrapolated.
-    fn interpolated(&self, prev: &MatchSnapshot, newest: &MatchSnapshot) -> FrameSnapshot {
-        let a = self.frame_snapshot(prev);
-        let b = self.frame_snapshot(newest);
-        let t = 0.5 * (prev.time_s + newest.time_s);
-        FrameSnapshot::at_time(&a, &b, t)
+        frame::hud(&HudState {
+            stage,
+            lost,
+            board_name: &self.board.name(),
+            flow: &self.flow,
+            calibrator: self.calibrator.as_ref(),
+            user_paused: self.user_paused,
+            paused_heading: "PAUSED\nPUSH A ROD OR ENTER TO RESUME - ESC TO QUIT",
+            key_hints: &self.options.key_hints,
+            notice: self
+                .notice
+                .as_ref()
+                .filter(|(_, until)| now < *until)
+                .map(|(msg, _)| msg.as_str()),
+            now_s: now,
+        })
     }
 
     fn take_events(
@@ -527,48 +431,7 @@ impl Session {
         now: f64,
         sounds: &mut Vec<Sound>,
     ) {
-        let ball = newest.ball.position;
-        for e in events {
-            let time_s = e.t_ms as f64 * 1e-3;
-            match e.event {
-                Event::Kick { speed, .. } => {
-                    self.events.push(RenderEvent {
-                        time_s,
-                        kind: EventKind::Kick,
-                        position: ball,
-                        speed,
-                    });
-                    sounds.push(Sound::Kick {
-                        speed_m_s: speed as f32,
-                    });
-                }
-                Event::Bounce { speed } => {
-                    self.events.push(RenderEvent {
-                        time_s,
-                        kind: EventKind::Bounce,
-                        position: ball,
-                        speed,
-                    });
-                    if speed >= QUIET_BOUNCE_M_S {
-                        sounds.push(Sound::Bounce {
-                            speed_m_s: speed as f32,
-                        });
-                    }
-                }
-                Event::Goal { side, .. } => {
-                    let x = self.match_table.goal_line_x(side.other());
-                    self.events.push(RenderEvent {
-                        time_s,
-                        kind: EventKind::Goal(view::team(side)),
-                        position: [x, 0.0, 0.03],
-                        speed: 4.0,
-                    });
-                    self.last_goal_s = Some(now);
-                    sounds.push(Sound::GoalFanfare);
-                }
-                Event::Serve { .. } | Event::MatchOver { .. } => {}
-            }
-        }
+        self.scene.take_events(events, newest, now, sounds);
         // Haptics: a person's kicks pulse their paddle.
         if let Some(h) = &mut self.haptics {
             for report in h.reports(events) {
@@ -576,18 +439,7 @@ impl Session {
                 let _ = self.board.send(&report);
             }
         }
-        let horizon = newest.time_s - PARTICLE_LIFETIME_S - 0.5;
-        self.events.retain(|e| e.time_s >= horizon);
     }
-}
-
-/// Whether any rod is being pushed (resumes a paused match).
-fn rods_pushed(rods: &RodInputs) -> bool {
-    rods.health == InputHealth::Live
-        && rods
-            .rods
-            .iter()
-            .any(|r| r.slide_velocity_m_per_s.abs() >= super::flow::PUSH_SPEED_M_S)
 }
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 //! A gamepad, when one is plugged in (gilrs). No gamepad, or no gamepad support on this
 //! machine, is not an error: [`Gamepads::state`] is then `None`.
 
-use super::controls::PadState;
+use crate::controls::PadState;
 use gilrs::{Axis, Button, Gilrs};
 
 /// Stick deflection below this counts as centred.
