@@ -355,3 +355,29 @@ fn a_capsule_across_a_box_edge_touches_at_the_edge() {
     // The edge lies 1 cm from the axis on the capsule's side: 2 cm inside its surface.
     assert!((deepest + 0.02).abs() < 1e-6, "deepest {deepest}");
 }
+
+/// A capsule parallel to a box's side, as a rod's bar beside a wall piece: a gap just
+/// beyond the margin gives no contact, one just within it a contact at that gap.
+#[test]
+fn a_capsule_beside_a_box_is_in_reach_only_within_the_margin() {
+    let wall = cube(0.5);
+    let cap = Shape::Capsule {
+        radius: 0.008,
+        half_height: 0.6,
+    };
+    // The bar along y (a quarter turn about x), its axis 0.5 + 0.008 + gap from the
+    // box's centre along x: its surface `gap` from the side face.
+    let r = exp_so3(&V3::new(std::f64::consts::FRAC_PI_2, 0.0, 0.0));
+    let i = Matrix3::identity();
+    let margin = 0.004;
+    for (gap, touches) in [(margin * 1.001, false), (margin * 0.999, true)] {
+        let centre = V3::new(0.5 + 0.008 + gap, 0.3, 0.2);
+        let mut m = Manifold::new(0, 1);
+        let hit = collide(&wall, &i, &V3::zeros(), &cap, &r, &centre, margin, &mut m)
+            .expect("supported pair");
+        assert_eq!(hit, touches, "gap {gap}");
+        for p in m.points() {
+            assert!((p.separation - gap).abs() < 1e-12, "gap {gap}: {p:?}");
+        }
+    }
+}

@@ -296,19 +296,44 @@ pub fn capsule_capsule(
     sphere_sphere(&qa, rad_a, &qb, rad_b, margin, out)
 }
 
-/// The point of segment `s0 s1` deepest in box `(r, p, half)`: the least signed distance
-/// along the segment (m, negative inside), found by golden-section search. The signed
-/// distance to a convex body is convex along a line, so the search converges to the
-/// segment's deepest point, within `0.618^GOLDEN_STEPS` of the segment's length.
-fn segment_deepest_in_box(r: &M3, p: &V3, half: &V3, s0: &V3, s1: &V3) -> (V3, f64) {
-    const GOLDEN_STEPS: usize = 48;
+/// Signed distance from `cl` (box frame) to the box `[-half, half]` (m, negative inside).
+fn box_signed_distance(cl: &V3, half: &V3) -> f64 {
+    let out = V3::new(
+        (cl.x.abs() - half.x).max(0.0),
+        (cl.y.abs() - half.y).max(0.0),
+        (cl.z.abs() - half.z).max(0.0),
+    );
+    let outside = out.norm_squared();
+    if outside > 0.0 {
+        outside.sqrt()
+    } else {
+        (cl.x.abs() - half.x)
+            .max(cl.y.abs() - half.y)
+            .max(cl.z.abs() - half.z)
+    }
+}
+
+/// The point of segment `a + (b − a) t`, `t ∈ [t0, t1]` (box frame), deepest in the box
+/// `[-half, half]`: the least signed distance along it, found by golden-section search. The
+/// signed distance to a convex body is convex along a line, so the search converges to the
+/// deepest point; it stops once the bracket is shorter than `DEEPEST_TOLERANCE_M`.
+fn segment_deepest_in_box(a: &V3, b: &V3, t0: f64, t1: f64, half: &V3) -> V3 {
+    /// Length of the final bracket along the segment, m: far below any contact's scale.
+    const DEEPEST_TOLERANCE_M: f64 = 1e-8;
+    /// Bound on the steps for any segment's length (a 1 km segment takes 57).
+    const MAX_STEPS: usize = 80;
     let inv_phi = 0.5 * (5f64.sqrt() - 1.0);
-    let at = |t: f64| s0 + (s1 - s0) * t;
-    let f = |t: f64| box_closest(r, p, half, &at(t)).2;
-    let (mut lo, mut hi) = (0.0, 1.0);
+    let d = b - a;
+    let at = |t: f64| a + d * t;
+    let f = |t: f64| box_signed_distance(&at(t), half);
+    let length = d.norm();
+    let (mut lo, mut hi) = (t0, t1);
     let (mut x1, mut x2) = (hi - inv_phi * (hi - lo), lo + inv_phi * (hi - lo));
     let (mut f1, mut f2) = (f(x1), f(x2));
-    for _ in 0..GOLDEN_STEPS {
+    for _ in 0..MAX_STEPS {
+        if (hi - lo) * length <= DEEPEST_TOLERANCE_M {
+            break;
+        }
         if f1 <= f2 {
             hi = x2;
             (x2, f2) = (x1, f1);
@@ -321,8 +346,30 @@ fn segment_deepest_in_box(r: &M3, p: &V3, half: &V3, s0: &V3, s1: &V3) -> (V3, f
             f2 = f(x2);
         }
     }
-    let t = 0.5 * (lo + hi);
-    (at(t), f(t))
+    at(0.5 * (lo + hi))
+}
+
+/// The parameter range `[t0, t1] ⊆ [0, 1]` of the segment `a + (b − a) t` inside the box
+/// `[-half, half]`, all in the box's frame (slab clipping), or `None` where it misses.
+fn segment_in_box(a: &V3, b: &V3, half: &V3) -> Option<(f64, f64)> {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for i in 0..3 {
+        if d[i].abs() < 1e-15 {
+            if a[i].abs() > half[i] {
+                return None;
+            }
+        } else {
+            let inv = 1.0 / d[i];
+            let (ta, tb) = ((-half[i] - a[i]) * inv, (half[i] - a[i]) * inv);
+            t0 = t0.max(ta.min(tb));
+            t1 = t1.min(ta.max(tb));
+            if t0 > t1 {
+                return None;
+            }
+        }
+    }
+    Some((t0, t1))
 }
 
 /// Box (A) – capsule (B): each segment end and the segment point nearest the box centre,
@@ -344,14 +391,26 @@ pub fn box_capsule(
     out.len = 0;
     let e = rc.column(2) * hh;
     let (s0, s1) = (pc - e, pc + e);
+    // Every point within `radius + margin` of the box lies in the box grown by that much
+    // along each of its axes: a segment that misses the grown box has no contact.
+    let reach = radius + margin;
+    let (a, b) = (r.tr_mul(&(s0 - p)), r.tr_mul(&(s1 - p)));
+    let Some((t0, t1)) = (reach >= 0.0)
+        .then(|| segment_in_box(&a, &b, &half.add_scalar(reach)))
+        .flatten()
+    else {
+        return false;
+    };
     let mid = segment_closest(&s0, &s1, p);
     let closest = [s0, s1, mid].map(|x| box_closest(r, p, half, &x));
     let nearest = closest.iter().fold(f64::INFINITY, |m, c| m.min(c.2));
-    let (deep, dist) = segment_deepest_in_box(r, p, half, &s0, &s1);
+    // The deepest point is within reach only inside the grown box: search there.
+    let deep = segment_deepest_in_box(&a, &b, t0, t1, half);
+    let dist = box_signed_distance(&deep, half);
     // A fourth point only where the segment lies deeper than the three by more than
     // round-off: where one of them is the deepest, the manifold stays theirs.
-    let across =
-        (dist < nearest - 1e-9 * (1.0 + nearest.abs())).then(|| box_closest(r, p, half, &deep));
+    let across = (dist < nearest - 1e-9 * (1.0 + nearest.abs()))
+        .then(|| box_closest(r, p, half, &(p + r * deep)));
     let mut best = f64::INFINITY;
     for (q, n, dist) in closest.into_iter().chain(across) {
         let s = dist - radius;
