@@ -349,6 +349,25 @@ fn segment_deepest_in_box(a: &V3, b: &V3, t0: f64, t1: f64, half: &V3) -> V3 {
     at(0.5 * (lo + hi))
 }
 
+/// The axis of the box `[-half, half]` whose face the point `x` (box frame) leaves by: the
+/// largest component of its outward direction, outside; the face of least depth, inside.
+fn reference_axis(x: &V3, half: &V3) -> usize {
+    let excess = x.abs() - half;
+    let out = excess.map(|e| e.max(0.0));
+    let key = if out.norm_squared() > 0.0 {
+        out
+    } else {
+        excess
+    };
+    let mut k = 0;
+    for i in 1..3 {
+        if key[i] > key[k] {
+            k = i;
+        }
+    }
+    k
+}
+
 /// The parameter range `[t0, t1] ⊆ [0, 1]` of the segment `a + (b − a) t` inside the box
 /// `[-half, half]`, all in the box's frame (slab clipping), or `None` where it misses.
 fn segment_in_box(a: &V3, b: &V3, half: &V3) -> Option<(f64, f64)> {
@@ -372,10 +391,10 @@ fn segment_in_box(a: &V3, b: &V3, half: &V3) -> Option<(f64, f64)> {
     Some((t0, t1))
 }
 
-/// Box (A) – capsule (B): each segment end and the segment point nearest the box centre,
-/// as spheres against the box, and the segment's deepest point where it lies deeper than
-/// those three (a capsule across an edge of the box); the deepest point's normal is the
-/// manifold's.
+/// Box (A) – capsule (B): each segment end clipped to the reference face's sides and the
+/// segment point nearest the box centre, as spheres against the box, and the segment's
+/// deepest point where it lies deeper than those three (a capsule across an edge of the
+/// box); the deepest point's normal is the manifold's.
 #[allow(clippy::too_many_arguments)]
 pub fn box_capsule(
     r: &M3,
@@ -401,12 +420,25 @@ pub fn box_capsule(
     else {
         return false;
     };
-    let mid = segment_closest(&s0, &s1, p);
-    let closest = [s0, s1, mid].map(|x| box_closest(r, p, half, &x));
-    let nearest = closest.iter().fold(f64::INFINITY, |m, c| m.min(c.2));
     // The deepest point is within reach only inside the grown box: search there.
     let deep = segment_deepest_in_box(&a, &b, t0, t1, half);
     let dist = box_signed_distance(&deep, half);
+    // The segment's ends, each clipped to the side faces of the reference face (the box
+    // face the deepest point leaves by, as a face–edge clip does): a capsule hanging over an
+    // edge of that face keeps a point at the edge, so it cannot turn down over the edge
+    // into the box within a step.
+    let k = reference_axis(&deep, half);
+    let mut sides = *half;
+    sides[k] = f64::INFINITY;
+    let (u0, u1) = segment_in_box(&a, &b, &sides).unwrap_or((0.0, 1.0));
+    let at = |t: f64| s0 + (s1 - s0) * t;
+    let ends = [
+        if u0 > 0.0 { at(u0) } else { s0 },
+        if u1 < 1.0 { at(u1) } else { s1 },
+    ];
+    let mid = segment_closest(&s0, &s1, p);
+    let closest = [ends[0], ends[1], mid].map(|x| box_closest(r, p, half, &x));
+    let nearest = closest.iter().fold(f64::INFINITY, |m, c| m.min(c.2));
     // A fourth point only where the segment lies deeper than the three by more than
     // round-off: where one of them is the deepest, the manifold stays theirs.
     let across = (dist < nearest - 1e-9 * (1.0 + nearest.abs()))

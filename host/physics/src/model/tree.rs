@@ -139,6 +139,14 @@ impl<T: Real> ArticulatedTree<T> {
     /// Pose of every body frame in the world frame at configuration `q`.
     pub fn body_poses(&self, q: &[T]) -> Vec<SE3<T>> {
         let mut out: Vec<SE3<T>> = Vec::with_capacity(self.bodies.len());
+        self.body_poses_into(q, &mut out);
+        out
+    }
+
+    /// [`Self::body_poses`] written into `out` (cleared first; no allocation once it holds
+    /// a pose per body).
+    pub(crate) fn body_poses_into(&self, q: &[T], out: &mut Vec<SE3<T>>) {
+        out.clear();
         for b in &self.bodies {
             let f = b.placement * b.joint.transform(&q[b.q_offset..b.q_offset + b.nq()]);
             let pose = match b.parent {
@@ -147,6 +155,5 @@ impl<T: Real> ArticulatedTree<T> {
             };
             out.push(pose);
         }
-        out
     }
 }

@@ -387,8 +387,8 @@ impl World {
             self.bodies.dp[i] = V3::zeros();
             self.bodies.dtheta[i] = V3::zeros();
         }
-        for dq in &mut self.tree_dq {
-            dq.iter_mut().for_each(|x| *x = 0.0);
+        for (now, start) in self.tree_poses.iter_mut().zip(&self.link_poses) {
+            now.clone_from(start);
         }
         let coupled = self.coupled_trees();
         if !self.tree_contacts.contacts.is_empty() {
@@ -625,11 +625,11 @@ impl World {
                     .project_positions(&self.joints, &mut self.bodies);
             }
             if plan.coupled {
-                for (a, dq) in self.articulated.iter_mut().zip(&mut self.tree_dq) {
+                for (a, poses) in self.articulated.iter_mut().zip(&mut self.tree_poses) {
                     if link_proxies::in_solve(eff, a) {
                         a.position_stage(h);
-                        for (x, v) in dq.iter_mut().zip(&a.qd) {
-                            *x += h * v;
+                        if a.has_shapes() {
+                            a.model().body_poses_into(a.q(), poses);
                         }
                     }
                 }
@@ -823,7 +823,7 @@ impl World {
             self.tree_contacts.solve(
                 &mut self.bodies,
                 &mut self.articulated,
-                &self.tree_dq,
+                &self.tree_poses,
                 &plan.soft,
                 &plan.soft_static,
                 inv_h,

@@ -19,6 +19,7 @@
 //! contacts exactly.
 
 use super::articulated::ArticulatedSystem;
+use crate::algebra::SE3;
 use crate::dynamics::solver::contact_constraint::{tangent_basis, LINEAR_SLOP};
 use crate::dynamics::solver::{ContactSettings, Softness, SolvePass};
 use crate::dynamics::{BodySet, DynamicsError};
@@ -39,7 +40,7 @@ pub(crate) enum Side {
     /// A free dynamic body: inverse mass and world inverse inertia.
     Free { body: usize, im: f64, ii: M3 },
     /// Link `link` of tree `tree`.
-    Link { tree: usize },
+    Link { tree: usize, link: usize },
 }
 
 /// The link behind a proxy body.
@@ -55,6 +56,10 @@ pub(crate) struct Proxy {
 struct Point {
     ra: V3,
     rb: V3,
+    /// The contact point at the start of the step (m, world).
+    point: V3,
+    /// Per side (A, B), the contact point in its link's frame, where the side is a link (m).
+    anchor: [V3; 2],
     /// Effective masses of the normal and the two tangent rows (kg).
     mass: [f64; 3],
     /// Start of this point's rows in the row buffer: per direction (n, t0, t1) and side
@@ -98,12 +103,15 @@ pub(crate) struct TreeContacts {
     substeps: usize,
 }
 
-/// Per tree, the chart displacement `Σ h q̇` of the current step.
-pub(crate) type TreeDisplacements = Vec<Vec<f64>>;
+/// Per tree, the world pose of each link at the current substep's configuration.
+pub(crate) type TreePoses = Vec<Vec<SE3<f64>>>;
 
 fn side_of(bodies: &BodySet, proxies: &[Option<Proxy>], i: usize) -> Side {
     if let Some(p) = proxies.get(i).copied().flatten() {
-        return Side::Link { tree: p.tree };
+        return Side::Link {
+            tree: p.tree,
+            link: p.link,
+        };
     }
     if bodies.awake[i] && bodies.inv_mass[i] > 0.0 {
         Side::Free {
@@ -155,9 +163,12 @@ impl TreeContacts {
             let ra = cp.point - bodies.pos[ia];
             let rb = cp.point - bodies.pos[ib];
             // The contact point's velocity Jacobian on each link side, shared by its rows.
-            for (s, (side, body)) in [(a, ia), (b, ib)].into_iter().enumerate() {
-                if let Side::Link { tree } = side {
-                    let link = proxies[body].map_or(0, |p| p.link);
+            let mut anchor = [V3::zeros(); 2];
+            for (s, side) in [a, b].into_iter().enumerate() {
+                if let Side::Link { tree, link } = side {
+                    anchor[s] = poses[tree][link]
+                        .r
+                        .tr_mul(&(cp.point - poses[tree][link].p));
                     trees[tree].point_velocity_jacobian(
                         &poses[tree],
                         link,
@@ -179,7 +190,7 @@ impl TreeContacts {
                                 vel[s] = d.dot(&(bodies.vel[body] + bodies.omega[body].cross(&r)));
                             }
                         }
-                        Side::Link { tree } => {
+                        Side::Link { tree, .. } => {
                             let t = &mut trees[tree];
                             let nv = t.qd.len();
                             let start = self.rows.len();
@@ -202,6 +213,8 @@ impl TreeContacts {
             *pc = Point {
                 ra,
                 rb,
+                point: cp.point,
+                anchor,
                 separation: cp.separation,
                 relative_velocity: vel[1] - vel[0],
                 normal_impulse: cp.normal_impulse,
@@ -257,7 +270,7 @@ impl TreeContacts {
         let n = m.normal;
         for cp in m.points() {
             for (side, body) in [(a, m.a as usize), (b, m.b as usize)] {
-                let Side::Link { tree } = *side else {
+                let Side::Link { tree, .. } = *side else {
                     continue;
                 };
                 let link = proxies[body].map_or(0, |p| p.link);
@@ -287,7 +300,7 @@ impl TreeContacts {
         match side {
             Side::Still => 0.0,
             Side::Free { body, .. } => d.dot(&(bodies.vel[body] + bodies.omega[body].cross(r))),
-            Side::Link { tree } => {
+            Side::Link { tree, .. } => {
                 let qd = &trees[tree].qd;
                 self.rows[row..row + qd.len()]
                     .iter()
@@ -317,7 +330,7 @@ impl TreeContacts {
                 bodies.vel[body] += d * (im * lambda);
                 bodies.omega[body] += ii * r.cross(d) * lambda;
             }
-            Side::Link { tree } => {
+            Side::Link { tree, .. } => {
                 let qd = &mut trees[tree].qd;
                 let nv = qd.len();
                 for (v, w) in qd.iter_mut().zip(&self.rows[row + nv..row + 2 * nv]) {
@@ -327,27 +340,26 @@ impl TreeContacts {
         }
     }
 
-    /// Displacement of a side's point along the normal over the step so far (m).
+    /// Displacement of a side's point along the normal over the step so far (m): a free
+    /// body's from its displacement and turn; a link's from where its pose now carries the
+    /// point (not `J Δq`, which misses the point's swing when a link turns about a joint far
+    /// from it: a falling arm's links dipped millimetres past a step's edge in one step).
     #[inline]
     fn side_displacement(
-        &self,
         side: Side,
         r: &V3,
+        anchor: &V3,
+        point: &V3,
         n: &V3,
-        row: usize,
         bodies: &BodySet,
-        dq: &TreeDisplacements,
+        poses: &TreePoses,
     ) -> f64 {
         match side {
             Side::Still => 0.0,
             Side::Free { body, .. } => n.dot(&(bodies.dp[body] + bodies.dtheta[body].cross(r))),
-            Side::Link { tree } => {
-                let d = &dq[tree];
-                self.rows[row..row + d.len()]
-                    .iter()
-                    .zip(d)
-                    .map(|(j, x)| j * x)
-                    .sum()
+            Side::Link { tree, link } => {
+                let pose = &poses[tree][link];
+                n.dot(&(pose.r * anchor + pose.p - point))
             }
         }
     }
@@ -389,7 +401,7 @@ impl TreeContacts {
         &mut self,
         bodies: &mut BodySet,
         trees: &mut [ArticulatedSystem],
-        dq: &TreeDisplacements,
+        poses: &TreePoses,
         soft: &Softness,
         soft_static: &Softness,
         inv_h: f64,
@@ -405,8 +417,24 @@ impl TreeContacts {
                 let i = if pass.reverse { c.len - 1 - i } else { i };
                 let pc = c.points[i];
                 let s = pc.separation
-                    + self.side_displacement(c.b, &pc.rb, &n, pc.rows[0][1], bodies, dq)
-                    - self.side_displacement(c.a, &pc.ra, &n, pc.rows[0][0], bodies, dq);
+                    + Self::side_displacement(
+                        c.b,
+                        &pc.rb,
+                        &pc.anchor[1],
+                        &pc.point,
+                        &n,
+                        bodies,
+                        poses,
+                    )
+                    - Self::side_displacement(
+                        c.a,
+                        &pc.ra,
+                        &pc.anchor[0],
+                        &pc.point,
+                        &n,
+                        bodies,
+                        poses,
+                    );
                 let (bias, ms, is) = if s > 0.0 {
                     (s * inv_h, 1.0, 0.0)
                 } else if pass.use_bias {

@@ -9,7 +9,7 @@ use super::resting_substeps::RestingSubsteps;
 use super::settings::SolverVariants;
 use super::sink_hold::SinkHold;
 use super::step_guard;
-use super::tree_contacts::{Proxy, TreeContacts, TreeDisplacements};
+use super::tree_contacts::{Proxy, TreeContacts, TreePoses};
 use super::warm_start_replay::WarmStartReplay;
 use super::{Effect, Effects, FreeIntegrator, IntegratorKind, SolverSettings, StepCounters};
 use crate::dynamics::solver::{
@@ -89,8 +89,9 @@ pub struct World {
     pub(crate) proxies: Vec<Option<Proxy>>,
     /// Contacts with a tree link on a side, this step.
     pub(crate) tree_contacts: TreeContacts,
-    /// Per tree, `Σ h q̇` over the step's substeps so far.
-    pub(crate) tree_dq: TreeDisplacements,
+    /// Per tree, its links' poses at the current substep (the start of the step's, then
+    /// each substep's): where the tree contacts' anchors are now.
+    pub(crate) tree_poses: TreePoses,
     /// Per tree, the link poses at the start of the step.
     pub(crate) link_poses: Vec<Vec<crate::algebra::SE3<f64>>>,
     /// Per tree, the velocity its motors reach in the step's first substep (empty: none).
@@ -157,7 +158,7 @@ impl World {
             guard: step_guard::StepGuard::default(),
             proxies: Vec::new(),
             tree_contacts: TreeContacts::default(),
-            tree_dq: Vec::new(),
+            tree_poses: Vec::new(),
             link_poses: Vec::new(),
             predicted_qd: Vec::new(),
             substep_clock: (0.0, 0.0),
@@ -186,7 +187,7 @@ impl World {
     /// after the link, posed from the tree), through which they touch the other bodies.
     pub(crate) fn add_articulated(&mut self, mut system: ArticulatedSystem) {
         system.integrator = self.integrator.kind;
-        self.tree_dq.push(vec![0.0; system.qd.len()]);
+        self.tree_poses.push(system.link_poses());
         self.link_poses.push(system.link_poses());
         self.articulated.push(system);
         self.add_link_proxies(self.articulated.len() - 1);
@@ -208,7 +209,7 @@ impl World {
     }
 
     /// The current contact manifolds (empty without contacts).
-    pub(crate) fn manifolds(&self) -> &[crate::geometry::Manifold] {
+    pub fn manifolds(&self) -> &[crate::geometry::Manifold] {
         self.narrow.as_ref().map_or(&[], |n| &n.manifolds)
     }
 
