@@ -13,8 +13,9 @@
 //! `1 / (Σ_free (m⁻¹ + (r×d)·I⁻¹(r×d)) + Σ_link J M⁻¹ Jᵀ)`.
 //!
 //! Rows are prepared once per step at the start-of-step configuration, as the free-body rows
-//! are; the separation is updated through the substeps from each side's displacement (`J Δq`
-//! for a link, where `Δq` sums `h q̇` over the step's substeps). Friction (Coulomb cone),
+//! are; the separation is updated through the substeps from each side's displacement (for a
+//! link, where the link's pose at the current substep carries the contact point, held in the
+//! link's frame). Friction (Coulomb cone),
 //! restitution above the threshold, soft position bias and warm starting follow the free-body
 //! contacts exactly.
 
