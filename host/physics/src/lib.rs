@@ -15,8 +15,9 @@
 //!   articulated trees, and their JSON description shared with the Pinocchio peer script.
 //! * [`dynamics`] — the articulated-body forward dynamics of Appendix A, recursive inverse
 //!   dynamics (RNEA), the joint-space mass matrix, and the single-body Eq. (3).
-//! * [`measure`] — operation counting (a counting scalar) and the matrix-form baseline that
-//!   reproduce the paper's Table 3.
+//! * `measure` (feature `measure`: `vphys`, the tests and benchmarks, not the game) —
+//!   operation counting (a counting scalar) and the matrix-form baseline that reproduce the
+//!   paper's Table 3, the accuracy report's problems and the hard-case battery.
 //!
 //! Part 2 — contacts, stacking, scenes that declare their effects:
 //!
@@ -29,7 +30,7 @@
 //!   five integrators selectable per scene; islands and sleeping.
 //!
 //! Part 3 — what accuracy costs: the integrators ([`pipeline::IntegratorKind`]), the reference
-//! problems of `vphys accuracy` ([`measure::accuracy`]) and the hard-case battery
+//! problems of `vphys accuracy` (`measure::accuracy`) and the hard-case battery
 //! (`tests/hard_cases.rs`).
 //!
 //! ## Conventions (used everywhere)
@@ -46,6 +47,7 @@
 
 pub mod algebra;
 pub mod dynamics;
+#[cfg(feature = "measure")]
 pub mod measure;
 pub mod model;
 mod real;

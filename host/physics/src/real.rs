@@ -5,7 +5,7 @@ use core::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAss
 
 use num_traits::{One, Zero};
 
-/// A real scalar: `f32`, `f64`, or the operation-counting scalar of [`crate::measure`].
+/// A real scalar: `f32`, `f64`, or the operation-counting scalar of `measure` (feature `measure`).
 ///
 /// The bounds are exactly what nalgebra needs for its 3-vector / 3×3 arithmetic and for the
 /// `Matrix6` baseline (`Scalar + Zero + One + ClosedAdd/Mul…`), plus the handful of elementary

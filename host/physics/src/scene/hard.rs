@@ -1,6 +1,6 @@
 //! The hard-case scenes: each at the engine's defaults (no solver settings, the default
 //! integrator), stating only its time step, gravity and effects, as a user would write it.
-//! [`crate::measure::hard`] runs them with their bounds (`vphys hard`).
+//! `measure::hard` (feature `measure`) runs them with their bounds (`vphys hard`).
 //!
 //! * [`heavy_on_pyramid`] — a heavy unit cube dropped onto a stepped pyramid of 1 kg cubes.
 //! * [`ball_in_box`] — a foosball-sized ball at tens of m/s in a closed box of 5 mm walls,
