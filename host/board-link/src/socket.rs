@@ -1,13 +1,13 @@
 //! [`SocketBoard`]: the game's client of the emulator process over a Unix-domain socket.
 
 use std::io;
-use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
-use std::os::unix::ffi::OsStrExt;
+use std::os::fd::{AsRawFd, OwnedFd};
 use std::os::unix::net::UnixStream;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use foosball_protocol::{InReport, OutReport, ReportTiming, FORMAT_VERSION};
+use socket2::{Domain, SockAddr, Socket, Type};
 
 use crate::link::{Connector, Link, ReportBuf, SystemClock, Transport, TransportError};
 use crate::socket_wire::{self, FrameKind, FrameReader, Message, WireError};
@@ -147,48 +147,16 @@ impl Connector for SocketConnector {
 /// is an [`io::ErrorKind::WouldBlock`] error at once, where a blocking connect would
 /// wait for it indefinitely.
 fn connect_without_waiting(path: &Path) -> io::Result<UnixStream> {
-    let bytes = path.as_os_str().as_bytes();
-    // SAFETY: sockaddr_un is plain data, for which all zeroes is a valid value.
-    let mut addr: libc::sockaddr_un = unsafe { std::mem::zeroed() };
-    // One byte stays for the terminating NUL.
-    if bytes.len() >= addr.sun_path.len() || bytes.contains(&0) {
-        return Err(io::Error::new(
+    let addr = SockAddr::unix(path).map_err(|e| {
+        io::Error::new(
             io::ErrorKind::InvalidInput,
-            format!(
-                "socket path {} is not usable: at most {} bytes, no NUL",
-                path.display(),
-                addr.sun_path.len() - 1
-            ),
-        ));
-    }
-    addr.sun_family = libc::AF_UNIX as libc::sa_family_t;
-    for (dst, &src) in addr.sun_path.iter_mut().zip(bytes) {
-        *dst = src as libc::c_char;
-    }
-    let len = std::mem::offset_of!(libc::sockaddr_un, sun_path) + bytes.len() + 1;
-    // SAFETY: plain socket(2); the result is checked.
-    let fd = unsafe {
-        libc::socket(
-            libc::AF_UNIX,
-            libc::SOCK_STREAM | libc::SOCK_NONBLOCK | libc::SOCK_CLOEXEC,
-            0,
+            format!("socket path {} is not usable: {e}", path.display()),
         )
-    };
-    if fd < 0 {
-        return Err(io::Error::last_os_error());
-    }
-    // SAFETY: `fd` is a socket just opened, owned by nobody else.
-    let fd = unsafe { OwnedFd::from_raw_fd(fd) };
-    // SAFETY: `addr` is a valid sockaddr_un and `len` does not exceed its size.
-    let connected = unsafe {
-        libc::connect(
-            fd.as_raw_fd(),
-            (&addr as *const libc::sockaddr_un).cast(),
-            len as libc::socklen_t,
-        )
-    };
-    if connected != 0 {
-        let e = io::Error::last_os_error();
+    })?;
+    // socket2 opens it close-on-exec.
+    let socket = Socket::new(Domain::UNIX, Type::STREAM, None)?;
+    socket.set_nonblocking(true)?;
+    if let Err(e) = socket.connect(&addr) {
         return Err(if e.kind() == io::ErrorKind::WouldBlock {
             io::Error::new(
                 io::ErrorKind::WouldBlock,
@@ -201,7 +169,7 @@ fn connect_without_waiting(path: &Path) -> io::Result<UnixStream> {
             e
         });
     }
-    Ok(UnixStream::from(fd))
+    Ok(UnixStream::from(OwnedFd::from(socket)))
 }
 
 struct SocketTransport {

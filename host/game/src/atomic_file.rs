@@ -5,56 +5,37 @@
 //! so the rename is atomic), is flushed to disk (`fsync`), then renamed over the
 //! target; finally the directory is synced so the rename itself survives a power cut.
 
-use std::fs::{self, File, OpenOptions};
+use std::fs::File;
 use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
-
-/// Distinguishes temporary files of concurrent writers in one process.
-static COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// The temporary file name used while writing `path`: hidden, in the same directory,
-/// unique per process and call.
-pub(crate) fn temp_path_for(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "file".into());
-    let unique = COUNTER.fetch_add(1, Ordering::Relaxed);
-    path.with_file_name(format!(".{name}.tmp.{}.{unique}", std::process::id()))
-}
+use std::path::Path;
 
 /// Writes `bytes` to `path` atomically (see the module docs). On error the target is
 /// untouched and the temporary file is removed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let temp = temp_path_for(path);
-    let result = (|| {
-        {
-            let mut file = OpenOptions::new()
-                .write(true)
-                .create_new(true)
-                .open(&temp)?;
-            file.write_all(bytes)?;
-            file.sync_all()?;
-        } // closed before the rename (an open file cannot be renamed on every platform)
-        fs::rename(&temp, path)?;
-        sync_parent(path);
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = fs::remove_file(&temp);
+    // A hidden temporary file beside the target, removed if anything below fails.
+    let mut file = tempfile::Builder::new()
+        .prefix(".")
+        .suffix(".tmp")
+        .tempfile_in(parent_of(path))?;
+    file.write_all(bytes)?;
+    file.as_file().sync_all()?;
+    file.persist(path).map_err(|e| e.error)?;
+    sync_parent(path);
+    Ok(())
+}
+
+/// The directory holding `path` (`.` for a bare file name).
+fn parent_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
     }
-    result
 }
 
 /// Syncs the directory holding `path` (best effort: not every platform allows opening a
 /// directory, and the data itself is already on disk).
 fn sync_parent(path: &Path) {
-    let parent = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    if let Ok(dir) = File::open(parent) {
+    if let Ok(dir) = File::open(parent_of(path)) {
         let _ = dir.sync_all();
     }
 }
@@ -62,6 +43,7 @@ fn sync_parent(path: &Path) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::fs;
 
     #[test]
     fn replaces_content_and_leaves_no_temporary_file() {

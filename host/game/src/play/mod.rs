@@ -21,7 +21,7 @@ mod rng;
 pub mod thread;
 
 pub use haptics::KickHaptics;
-pub use rng::SplitMix64;
+pub use rng::MatchRng;
 pub use thread::{PhysicsThread, ThreadOptions, ThreadStats};
 
 use crate::ai::{self, AiLimits, RodTarget};
@@ -151,7 +151,7 @@ pub struct Match {
     config: MatchConfig,
     arena: Arena,
     rules: Rules,
-    rng: SplitMix64,
+    rng: MatchRng,
     computer_rods: Vec<usize>,
     /// The computer's aim per computer rod (same order as `computer_rods`), m.
     aims: Vec<f64>,
@@ -164,7 +164,7 @@ pub struct Match {
 
 /// The serve's direction jitter and speed factor for one serve: an angle within ±0.4 rad
 /// off the table's axis and a speed × 0.8…1.3, from the match's generator.
-pub fn serve_jitter(rng: &mut SplitMix64, serve: &ServeSpec) -> ServeSpec {
+pub fn serve_jitter(rng: &mut MatchRng, serve: &ServeSpec) -> ServeSpec {
     let angle = (rng.next_f64() * 2.0 - 1.0) * 0.4;
     let factor = 0.8 + 0.5 * rng.next_f64();
     let [vx, vy, vz] = serve.velocity;
@@ -198,7 +198,7 @@ impl Match {
         let seen_capacity = config_reaction_capacity(&config);
         let recording = MatchRecording::of_poses(config.seed, config.table.clone(), config.rules);
         Ok(Match {
-            rng: SplitMix64::new(config.seed),
+            rng: MatchRng::new(config.seed),
             config,
             arena,
             rules,
