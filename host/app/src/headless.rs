@@ -9,6 +9,8 @@
 //! `--audio-out FILE.wav` the match's mixed sound is written too.
 
 use crate::event_text;
+use crate::history::record::now_unix_s;
+use crate::history::{HistoryStore, MatchRecord, Mode};
 use crate::window::session::QUIET_BOUNCE_M_S;
 use anyhow::{bail, Context, Result};
 use board_link::Board;
@@ -113,8 +115,9 @@ impl Input {
     }
 }
 
-/// Plays a headless match on `table` (name or file) with `seed`, printing its events.
-pub fn run(args: &HeadlessArgs, table: &str, seed: u64) -> Result<()> {
+/// Plays a headless match on `table` (name or file) with `seed`, printing its events; with
+/// `history`, keeps it in that match history (headless play keeps none by default).
+pub fn run(args: &HeadlessArgs, table: &str, seed: u64, history: Option<&Path>) -> Result<()> {
     if !(1..=99).contains(&args.goals) {
         bail!("--goals must be 1–99, got {}", args.goals);
     }
@@ -155,7 +158,14 @@ pub fn run(args: &HeadlessArgs, table: &str, seed: u64) -> Result<()> {
     for path in [&args.audio_out, &args.record].into_iter().flatten() {
         check_writable(path)?;
     }
+    // A history that cannot be opened is an error before the match, not after it.
+    let mut history = history.map(HistoryStore::open).transpose()?;
+    let (home, away) = match &args.script {
+        None => ("computer", "computer"),
+        Some(_) => ("script", "computer"),
+    };
     let mut m = Match::new(config).context("match")?;
+    let mut events: Vec<TimedEvent> = Vec::new();
     let mut cues: Vec<(f64, Sound)> = Vec::new();
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
@@ -171,6 +181,10 @@ pub fn run(args: &HeadlessArgs, table: &str, seed: u64) -> Result<()> {
         }
         let inputs = input.next();
         for e in m.step(&inputs) {
+            if history.is_some() && matches!(e.event, Event::Kick { .. } | Event::MatchOver { .. })
+            {
+                events.push(e);
+            }
             if let Some(s) = sound_of(&e.event) {
                 cues.push((e.t_ms as f64 / 1000.0, s));
             }
@@ -184,6 +198,18 @@ pub fn run(args: &HeadlessArgs, table: &str, seed: u64) -> Result<()> {
         print_event(&mut out, &e, args.format, &table)?;
     }
     out.flush()?;
+    if let Some(store) = &mut history {
+        let record = MatchRecord::from_events(
+            &events,
+            &table,
+            [home.to_string(), away.to_string()],
+            Mode::Local,
+            seed,
+            now_unix_s(),
+        )
+        .context("the match's record: no end among its events")?;
+        store.add(&record)?;
+    }
     if let Some(path) = &args.record {
         m.recording()
             .save(path)

@@ -15,6 +15,7 @@
 //! space-foosball board [live] [--board auto|usb|emulated|socket[:PATH] | --socket PATH] [--serial S] [--once | --frames N] [--format text|json | --json]
 //! space-foosball board info|ports|settings|bootloader [--board auto|usb|emulated] [--serial S] [--json]
 //! space-foosball board set port.N.FIELD VALUE [--board auto|usb|emulated] [--serial S] [--json]
+//! space-foosball history [--json] [--limit N] [--history FILE]
 //! ```
 
 mod bench;
@@ -22,6 +23,7 @@ mod board_tool;
 mod board_view;
 mod event_text;
 mod headless;
+mod history;
 mod play;
 mod render_bench;
 mod replay;
@@ -61,6 +63,9 @@ enum Command {
     /// the host's counters); `info`, `ports`, `settings`, `set KEY VALUE` and
     /// `bootloader` for its diagnostics and settings.
     Board(board_tool::Args),
+    /// The matches kept (every windowed match, and headless ones with `--history`),
+    /// newest first, with the top scorers and the fastest shot; `--json` for scripts.
+    History(history::cli::Args),
 }
 
 fn main() -> ExitCode {
@@ -75,6 +80,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(&args),
         Command::Replay(args) => replay::run(&args),
         Command::Board(args) => board_tool::run(&args),
+        Command::History(args) => history::cli::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

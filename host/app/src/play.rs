@@ -35,7 +35,12 @@ or render the screens with `space-foosball screenshot --screen all --out DIR`.";
 /// Plays in a window; without a display, explains where to go instead and fails.
 pub fn run(args: &Args) -> Result<()> {
     if args.headless.headless {
-        return crate::headless::run(&args.headless, &args.window.table, args.window.seed);
+        return crate::headless::run(
+            &args.headless,
+            &args.window.table,
+            args.window.seed,
+            args.window.history.as_deref(),
+        );
     }
     let options = args.window.options()?;
     if display().is_none() {

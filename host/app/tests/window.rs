@@ -349,3 +349,104 @@ fn the_mouse_slides_and_spins_the_selected_rod() {
         "mouse right should spin the rod: {angle} rad: {json}"
     );
 }
+
+/// The attract screen between games shows the match history's best (top scorers, fastest
+/// shot) above the key hints: two headless matches kept, then the window opened on that
+/// history; its last frame shows the history's lines in the bottom panel.
+#[test]
+fn the_attract_screen_shows_the_match_history() {
+    if !display_or_skip() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("history.sqlite3");
+    for seed in ["5", "6"] {
+        let out = Command::new(BIN)
+            .args([
+                "play",
+                "--headless",
+                "--goals",
+                "1",
+                "--seed",
+                seed,
+                "--history",
+            ])
+            .arg(&db)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let png_path = dir.path().join("attract.png");
+    let (w, h) = (W.to_string(), H.to_string());
+    let out = windowed_play(
+        dir.path(),
+        &[
+            "--board",
+            "emulated",
+            "--width",
+            &w,
+            "--height",
+            &h,
+            "--exit-after-s",
+            "3",
+            "--capture-window",
+            png_path.to_str().unwrap(),
+            "--history",
+            db.to_str().unwrap(),
+        ],
+    )
+    .output()
+    .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json = stdout.lines().last().unwrap_or_default();
+    assert_eq!(field(json, "stage"), "\"attract\"", "{json}");
+    let at = json.find("\"hud_lines\": ").expect("hud_lines") + "\"hud_lines\": ".len();
+    let lines: Vec<String> = serde_json::from_str(json[at..].trim_end_matches('}')).unwrap();
+    // Two one-goal matches of the computer against itself: it scored both goals. The
+    // history's lines come before the key hints (after the keyboard's rod, first).
+    let k = lines
+        .iter()
+        .position(|l| l == "TOP SCORERS: COMPUTER 2")
+        .unwrap_or_else(|| panic!("no top scorers line: {lines:?}"));
+    assert!(lines[k + 1].starts_with("FASTEST SHOT: "), "{lines:?}");
+    assert!(lines[k + 2].starts_with("1-4 ROD"), "{lines:?}");
+    // The panel of these lines as the renderer lays it out (right-aligned rows, a cell
+    // of H/330 pixels, rows of the font's height and 3 cells; the lines before the top
+    // scorers are one row each): the top scorers' row holds light text whose left edge
+    // is where that line's width puts it, so it is that line that is drawn there.
+    assert!(lines[..k].iter().all(|l| l.len() < 24), "{lines:?}");
+    let hud = foosball_render::Hud {
+        lines: lines.clone(),
+        ..Default::default()
+    };
+    let panel = foosball_render::scene::hint_rect(&hud, W as f32, H as f32).expect("a panel");
+    let cell = (H as f32 / 330.0).round().max(1.0);
+    let row_h = (foosball_render::font::GLYPH_H as f32 + 3.0) * cell;
+    let top = panel[1] + cell + k as f32 * row_h;
+    let glyphs = foosball_render::font::GLYPH_H as f32 * cell;
+    let pic = Picture::load(&png_path);
+    let light = |[r, g, b]: [i32; 3]| r > 180 && g > 190 && b > 200;
+    let row = [panel[0], top, panel[2], top + glyphs];
+    let lit = pic.count(row, light);
+    assert!(
+        lit > 100,
+        "{lit} text pixels in the top scorers' row {row:?}"
+    );
+    let left = (panel[0] as u32..panel[2] as u32)
+        .find(|&x| pic.count([x as f32, top, x as f32 + 1.0, top + glyphs], light) > 0)
+        .expect("a lit column");
+    let expected = panel[2] - cell - foosball_render::font::text_width(&lines[k], cell);
+    assert!(
+        (left as f32 - expected).abs() <= 2.0 * cell,
+        "the row's text starts at x = {left}, the top scorers' line at {expected}"
+    );
+}

@@ -86,6 +86,9 @@ pub struct HudState<'a> {
     pub key_hints: &'a [String],
     /// A notice showing now (a saved calibration, a board that came back).
     pub notice: Option<&'a str>,
+    /// Lines the attract screen shows between games, above the key hints (the match
+    /// history's best: top scorers, fastest shot); empty for none.
+    pub attract_lines: &'a [String],
     /// The session's clock, s.
     pub now_s: f64,
 }
@@ -109,6 +112,9 @@ pub fn hud(state: &HudState) -> Hud {
             .joined()
             .map(|j| if j { "PLAYER" } else { "COMPUTER" }.to_string());
         hud.team_notes = Some(who);
+    }
+    if state.stage == Stage::Attract {
+        hud.lines.extend(state.attract_lines.iter().cloned());
     }
     if matches!(state.stage, Stage::Attract | Stage::Playing) {
         hud.lines.extend(state.key_hints.iter().cloned());

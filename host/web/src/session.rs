@@ -533,6 +533,8 @@ impl WebSession {
                 .as_ref()
                 .filter(|(_, until)| until.is_some_and(|u| now < u) && stage != Stage::Calibration)
                 .map(|(msg, _)| msg.as_str()),
+            // The page keeps no match history.
+            attract_lines: &[],
             now_s: now,
         })
     }

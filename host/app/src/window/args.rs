@@ -40,6 +40,12 @@ pub struct WindowArgs {
     /// Start in calibration mode.
     #[arg(long)]
     pub calibrate: bool,
+    /// The match history every finished match is kept in (SQLite; see `space-foosball
+    /// history`; default: `$SPACE_FOOSBALL_HISTORY`, else
+    /// ~/.local/share/space-foosball/history.sqlite3). Headless play keeps its match only
+    /// where this is given.
+    #[arg(long, value_name = "FILE")]
+    pub history: Option<PathBuf>,
     /// Quit this many seconds after the first frame showed (unattended checks).
     #[arg(long, hide = true)]
     pub exit_after_s: Option<f64>,
@@ -106,6 +112,11 @@ impl WindowArgs {
             seed: self.seed,
             calibration_path: self.calibration.clone().or_else(default_calibration_path),
             calibrate: self.calibrate,
+            history_path: match &self.history {
+                Some(p) => Some(p.clone()),
+                // No home folder: play goes on, keeping no history.
+                None => crate::history::store::default_path().ok(),
+            },
             exit_after_s: self.exit_after_s,
             capture_window: self.capture_window.clone(),
             script: self.demo_input.clone().unwrap_or_default(),

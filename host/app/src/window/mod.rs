@@ -60,6 +60,8 @@ pub struct WindowOptions {
     pub calibration_path: Option<PathBuf>,
     /// Start in calibration mode.
     pub calibrate: bool,
+    /// The match history finished matches go into (none: not kept).
+    pub history_path: Option<PathBuf>,
     /// Quit this many seconds after the first frame showed (unattended checks).
     pub exit_after_s: Option<f64>,
     /// Write the last presented frame here as PNG when quitting.
@@ -196,6 +198,7 @@ impl App {
                 seed: options.seed,
                 calibration_path: options.calibration_path.clone(),
                 key_hints,
+                history_path: options.history_path.clone(),
             },
         )?;
         if options.calibrate {
@@ -265,7 +268,7 @@ impl App {
              \"present_mode\": {present:?}, \"board\": {:?}, \"stage\": {:?}, \"screen\": {:?}, \
              \"match_time_s\": {:.3}, \"paused\": {}, \"score\": [{}, {}], \
              \"ball\": [{:.5}, {:.5}, {:.5}], \"width\": {w}, \"height\": {h}, \"sound\": {:?}, \
-             \"input\": {:?}, \"controllers\": [{:?}, {:?}], \"rods\": [{}]}}",
+             \"input\": {:?}, \"controllers\": [{:?}, {:?}], \"rods\": [{}], \"hud_lines\": {}}}",
             self.frames,
             self.stages.fps(),
             self.stages.json(),
@@ -289,6 +292,7 @@ impl App {
             format!("{:?}", controllers[0]).to_lowercase(),
             format!("{:?}", controllers[1]).to_lowercase(),
             rods.join(", "),
+            serde_json::to_string(&last.hud.lines).unwrap_or_else(|_| "[]".into()),
         );
     }
 

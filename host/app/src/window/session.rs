@@ -18,6 +18,7 @@
 
 use super::calibrate::Calibrator;
 use super::flow::{Action, Flow, Stage};
+use crate::history::played::{attract_lines, keep_in_background, PlayedMatch};
 use board_link::{Board, BoardError, LinkState, LinkStats};
 use foosball_audio::Sound;
 use foosball_protocol::{InReport, OutReport};
@@ -103,6 +104,8 @@ pub struct SessionOptions {
     pub calibration_path: Option<PathBuf>,
     /// Key hints shown at the bottom of the screens (the emulated board's keys).
     pub key_hints: Vec<String>,
+    /// The match history every finished match goes into (none: not kept).
+    pub history_path: Option<PathBuf>,
 }
 
 /// A play session. See the [module](self).
@@ -126,6 +129,11 @@ pub struct Session {
     notice: Option<(String, f64)>,
     /// The table at rest (shown behind calibration, where no match runs).
     rest: MatchSnapshot,
+    /// The match being played, for the history (not the attract screen's).
+    played: Option<PlayedMatch>,
+    /// The history's lines on the attract screen (top scorers, fastest shot), renewed by
+    /// the thread that keeps a finished match.
+    attract_lines: Arc<Mutex<Vec<String>>>,
 }
 
 /// The board's input tracker with pose prediction between mouse packets (one packet
@@ -157,6 +165,7 @@ impl Session {
         let input = board_input(board.clone(), &table, calibration);
         let latest = input.tracker().inputs();
         let rest = Match::new(MatchConfig::computer_vs_computer(table.clone(), 0))?.snapshot();
+        let history_path = options.history_path.clone();
         let mut s = Session {
             flow: Flow::new(&table, 0.0),
             scene: MatchScene::new(&table),
@@ -175,6 +184,13 @@ impl Session {
             start: Instant::now(),
             notice: None,
             rest,
+            played: None,
+            attract_lines: Arc::new(Mutex::new(
+                history_path
+                    .as_deref()
+                    .map(attract_lines)
+                    .unwrap_or_default(),
+            )),
         };
         s.start_attract()?;
         Ok(s)
@@ -206,6 +222,7 @@ impl Session {
 
     fn run_match(&mut self, config: MatchConfig) -> anyhow::Result<()> {
         self.physics = None; // stops and joins the previous match
+        self.played = None;
         self.scene.restart(&config.table);
         self.controllers = config.controllers;
         self.haptics = config
@@ -249,7 +266,9 @@ impl Session {
         }
         let mut config = MatchConfig::player_vs_computer(table, self.seed);
         config.controllers = controllers;
+        let played = PlayedMatch::new(&config.table, controllers, self.seed);
         self.run_match(config)?;
+        self.played = self.options.history_path.is_some().then_some(played);
         let now = self.now_s();
         self.flow.enter(Stage::Playing, now);
         Ok(())
@@ -258,6 +277,7 @@ impl Session {
     /// Enters calibration mode: the match stops, the guided motion starts with rod 1.
     pub fn start_calibration(&mut self) {
         self.physics = None;
+        self.played = None;
         self.calibrator = Some(Calibrator::new(&self.table, self.calibration));
         let now = self.now_s();
         self.flow.enter(Stage::Calibration, now);
@@ -387,6 +407,7 @@ impl Session {
             .map(PhysicsThread::drain_events)
             .unwrap_or_default();
         self.take_events(&drained, &newest, now, &mut sounds);
+        self.keep_when_over(&drained);
         frame::keep_match_sounds_in_play(stage, stage_before, &mut sounds);
         let mut snapshot = self.scene.interpolated(&prev, &newest);
         frame::mark_table(&mut snapshot, stage, &self.flow, self.calibration_rod());
@@ -406,6 +427,7 @@ impl Session {
     }
 
     fn hud(&self, stage: Stage, lost: bool, now: f64) -> Hud {
+        let attract_lines = lock(&self.attract_lines).clone();
         frame::hud(&HudState {
             stage,
             lost,
@@ -420,8 +442,18 @@ impl Session {
                 .as_ref()
                 .filter(|(_, until)| now < *until)
                 .map(|(msg, _)| msg.as_str()),
+            attract_lines: &attract_lines,
             now_s: now,
         })
+    }
+
+    /// Gathers the played match's kicks; once it is over, keeps it in the history.
+    fn keep_when_over(&mut self, events: &[TimedEvent]) {
+        let over = self.played.as_mut().and_then(|p| p.take(events));
+        if let (Some(record), Some(path)) = (over, &self.options.history_path) {
+            self.played = None;
+            keep_in_background(path.clone(), record, Arc::clone(&self.attract_lines));
+        }
     }
 
     fn take_events(
