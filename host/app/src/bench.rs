@@ -51,6 +51,8 @@ pub enum What {
     Match(MatchArgs),
     /// Frame time of the renderer on the demo match (one JSON line).
     Render(crate::render_bench::RenderArgs),
+    /// Save, restore and an eight-frame rollback of the match (one JSON line).
+    Rollback(crate::rollback_bench::RollbackArgs),
 }
 
 /// Arguments of `bench match`.
@@ -75,6 +77,7 @@ pub fn run(args: &Args) -> Result<()> {
     match &args.what {
         What::Match(m) => run_match(m),
         What::Render(r) => crate::render_bench::run(r),
+        What::Rollback(r) => crate::rollback_bench::run(r),
     }
 }
 

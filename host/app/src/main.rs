@@ -11,6 +11,7 @@
 //! space-foosball play --headless [--seed N] [--goals N] [--table standard|paper|FILE] [--script FILE]
 //! space-foosball bench match [--json] [--steps N] [--table standard|paper|FILE]
 //! space-foosball bench render [--frames 120] [--width W --height H]
+//! space-foosball bench rollback [--repeats 50] [--table standard|paper|FILE]
 //! space-foosball play --headless --record FILE … ; space-foosball replay FILE [--home player] [--format text]
 //! space-foosball board [live] [--board auto|usb|emulated|socket[:PATH] | --socket PATH] [--serial S] [--once | --frames N] [--format text|json | --json]
 //! space-foosball board info|ports|settings|bootloader [--board auto|usb|emulated] [--serial S] [--json]
@@ -27,6 +28,7 @@ mod history;
 mod play;
 mod render_bench;
 mod replay;
+mod rollback_bench;
 mod screenshot;
 mod window;
 

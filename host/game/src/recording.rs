@@ -121,6 +121,22 @@ impl MatchRecording {
         }
     }
 
+    /// The steps a pose recording holds (0 for a report recording).
+    pub fn pose_steps(&self) -> usize {
+        match &self.input {
+            RecordedInput::Poses(steps) => steps.len(),
+            RecordedInput::Reports(_) => 0,
+        }
+    }
+
+    /// Cuts a pose recording back to its first `steps` steps (a rolled-back match);
+    /// a report recording is left as it is.
+    pub fn truncate_poses(&mut self, steps: usize) {
+        if let RecordedInput::Poses(recorded) = &mut self.input {
+            recorded.truncate(steps);
+        }
+    }
+
     /// Appends one report (a report recording; ignored for a pose recording).
     pub fn push_report(&mut self, report: &InReport) {
         if let RecordedInput::Reports(reports) = &mut self.input {

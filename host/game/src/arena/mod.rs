@@ -189,7 +189,9 @@ pub struct ArenaStep {
     pub contacts: Vec<Contact>,
 }
 
-/// The table as a physics world. See the [module](self) docs.
+/// The table as a physics world. See the [module](self) docs. A clone is a snapshot that
+/// steps on exactly as the arena would.
+#[derive(Clone)]
 pub struct Arena {
     table: Table,
     settings: ArenaSettings,

@@ -162,6 +162,23 @@ pub struct Match {
     last_health: InputHealth,
 }
 
+/// A match saved for rollback ([`Match::save`]): everything that decides what the match
+/// does next — the physics world, the rules and the clock, the serves' generator, the
+/// computer's aims and the ball it has seen, the events kept — and how far the recording
+/// had got. Restored ([`Match::restore`]), the match steps on bit for bit as it did from
+/// the moment it was saved.
+#[derive(Clone)]
+pub struct SavedMatch {
+    arena: Arena,
+    rules: Rules,
+    rng: MatchRng,
+    aims: Vec<f64>,
+    seen: VecDeque<BallState>,
+    recent: VecDeque<TimedEvent>,
+    last_health: InputHealth,
+    recorded_steps: usize,
+}
+
 /// The serve's direction jitter and speed factor for one serve: an angle within ±0.4 rad
 /// off the table's axis and a speed × 0.8…1.3, from the match's generator.
 pub fn serve_jitter(rng: &mut MatchRng, serve: &ServeSpec) -> ServeSpec {
@@ -354,6 +371,33 @@ impl Match {
     /// Score `[home, away]`.
     pub fn score(&self) -> [u32; 2] {
         self.rules.score()
+    }
+
+    /// The match saved for rollback (see [`SavedMatch`]); the recording is not copied.
+    pub fn save(&self) -> SavedMatch {
+        SavedMatch {
+            arena: self.arena.clone(),
+            rules: self.rules.clone(),
+            rng: self.rng.clone(),
+            aims: self.aims.clone(),
+            seen: self.seen.clone(),
+            recent: self.recent.clone(),
+            last_health: self.last_health,
+            recorded_steps: self.recording.pose_steps(),
+        }
+    }
+
+    /// Puts the match back as it was when `saved` was taken from it (the recording cut
+    /// back to that step). `saved` must come from this match.
+    pub fn restore(&mut self, saved: &SavedMatch) {
+        self.arena.clone_from(&saved.arena);
+        self.rules.clone_from(&saved.rules);
+        self.rng.clone_from(&saved.rng);
+        self.aims.clone_from(&saved.aims);
+        self.seen.clone_from(&saved.seen);
+        self.recent.clone_from(&saved.recent);
+        self.last_health = saved.last_health;
+        self.recording.truncate_poses(saved.recorded_steps);
     }
 
     /// Whether someone has won.

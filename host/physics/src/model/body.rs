@@ -5,7 +5,7 @@ use crate::algebra::{Inertia, SE3};
 use crate::Real;
 
 /// A rigid body with the joint that connects it to its parent.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct Body<T: Real> {
     /// Name (for messages and the JSON description).
     pub name: String,

@@ -9,7 +9,7 @@ use crate::Real;
 /// Bodies are stored in topological order: a body's parent always has a smaller index, so a
 /// forward loop visits parents first and a backward loop children first. Several bodies may
 /// have no parent (a forest rooted at the world) and any body may have several children.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub struct ArticulatedTree<T: Real> {
     bodies: Vec<Body<T>>,
     gravity: Vec3<T>,

@@ -61,6 +61,7 @@ pub(crate) struct LinkShape {
 }
 
 /// One articulated tree with its state.
+#[derive(Clone)]
 pub struct ArticulatedSystem {
     /// The model.
     pub(crate) tree: ArticulatedTree<f64>,

@@ -45,7 +45,7 @@ pub(super) const MAX_DT_S: f64 = 1.0;
 pub(super) const MAX_TREE_VALUE: f64 = 1e9;
 
 /// The snapshot and the count of bodies already checked.
-#[derive(Default)]
+#[derive(Clone, Default)]
 pub(crate) struct StepGuard {
     /// Bodies `0 .. checked` passed the checks of their fixed properties.
     pub(super) checked: usize,

@@ -18,7 +18,7 @@ use crate::geometry::V3;
 
 /// Each body's velocity at a substep's start and the change the contacts made over it
 /// (world frame; m/s and rad/s).
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub(crate) struct WarmStartReplay {
     start_vel: Vec<V3>,
     start_omega: Vec<V3>,

@@ -18,7 +18,9 @@ use crate::dynamics::solver::{
 use crate::dynamics::{BodyKind, BodySet, DynamicsError};
 use crate::geometry::{BroadPhase, NarrowPhase, V3};
 
-/// A simulated world.
+/// A simulated world. A clone is a snapshot: stepping it gives what stepping this world
+/// would, bit for bit (rollback netcode restores one and steps again).
+#[derive(Clone)]
 pub struct World {
     /// The rigid bodies.
     pub(crate) bodies: BodySet,

@@ -455,7 +455,7 @@ struct Slot {
 /// [`ContactBatches::finish`]) so that the world fills each constraint's lane right after
 /// preparing it, while the constraint is still in cache: filled from the whole prepared
 /// array afterwards, the fill read every constraint back from memory.
-#[derive(Debug, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct ContactBatches {
     /// Per colour, its group buffers, kept across steps; the first `live_groups[k]` are this
     /// step's. Each colour's groups lie side by side in the order they are solved.

@@ -30,8 +30,27 @@ use super::ModelError;
 use crate::algebra::{se3, Vec3, SE3};
 use crate::Real;
 
+/// A boxed copy of a joint, so that a tree (and a world) can be cloned whole: implemented
+/// for every joint that is `Clone`.
+pub trait JointClone<T: Real> {
+    /// The joint, copied into a new box.
+    fn clone_box(&self) -> Box<dyn Joint<T>>;
+}
+
+impl<T: Real, J: Joint<T> + Clone + 'static> JointClone<T> for J {
+    fn clone_box(&self) -> Box<dyn Joint<T>> {
+        Box::new(self.clone())
+    }
+}
+
+impl<T: Real> Clone for Box<dyn Joint<T>> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
+}
+
 /// A joint between a parent frame and a child body.
-pub trait Joint<T: Real>: core::fmt::Debug + Send + Sync {
+pub trait Joint<T: Real>: JointClone<T> + core::fmt::Debug + Send + Sync {
     /// The type name used in JSON descriptions (`"revolute"`, …).
     fn type_name(&self) -> &'static str;
 
