@@ -17,6 +17,8 @@
 //! space-foosball board info|ports|settings|bootloader [--board auto|usb|emulated] [--serial S] [--json]
 //! space-foosball board set port.N.FIELD VALUE [--board auto|usb|emulated] [--serial S] [--json]
 //! space-foosball history [--json] [--limit N] [--history FILE]
+//! space-foosball host --peer ADDRESS [--port 7000] [--script FILE] [--max-frames N] …
+//! space-foosball join ADDRESS [--port 7001] [--script FILE] [--max-frames N] …
 //! ```
 
 mod bench;
@@ -25,6 +27,7 @@ mod board_view;
 mod event_text;
 mod headless;
 mod history;
+mod online;
 mod play;
 mod render_bench;
 mod replay;
@@ -68,6 +71,11 @@ enum Command {
     /// The matches kept (every windowed match, and headless ones with `--history`),
     /// newest first, with the top scorers and the fastest shot; `--json` for scripts.
     History(history::cli::Args),
+    /// Host an online match (headless): this side plays Home against `join` at `--peer`,
+    /// with rollback (GGRS) over UDP; prints the outcome as one JSON line.
+    Host(online::cli::HostArgs),
+    /// Join an online match (headless) hosted at ADDRESS: this side plays Away.
+    Join(online::cli::JoinArgs),
 }
 
 fn main() -> ExitCode {
@@ -83,6 +91,8 @@ fn main() -> ExitCode {
         Command::Replay(args) => replay::run(&args),
         Command::Board(args) => board_tool::run(&args),
         Command::History(args) => history::cli::run(&args),
+        Command::Host(args) => online::cli::host(&args),
+        Command::Join(args) => online::cli::join(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -34,6 +34,10 @@ pub struct Args {
     /// How events are printed: `json` or `text`.
     #[arg(long, value_enum, default_value = "json")]
     pub format: Format,
+    /// End with one more JSON line: the replayed match's score, steps and state checksum
+    /// (what an online match's sides print as `state_hash`).
+    #[arg(long)]
+    pub state_hash: bool,
 }
 
 fn controller(w: Who) -> RodController {
@@ -48,12 +52,23 @@ pub fn run(args: &Args) -> Result<()> {
     let recording = MatchRecording::load(&args.file)
         .map_err(|e| anyhow::anyhow!("{e}"))
         .with_context(|| format!("recording {}", args.file.display()))?;
-    let (_, events) = Match::replay(&recording, [controller(args.home), controller(args.away)])
+    let (m, events) = Match::replay(&recording, [controller(args.home), controller(args.away)])
         .context("replaying")?;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     for e in &events {
         print_event(&mut out, e, args.format, &recording.table)?;
+    }
+    if args.state_hash {
+        writeln!(
+            out,
+            "{}",
+            serde_json::json!({
+                "score": m.score(),
+                "time_ms": m.time_ms(),
+                "state_hash": format!("{:032x}", m.state_hash()),
+            })
+        )?;
     }
     out.flush()?;
     Ok(())

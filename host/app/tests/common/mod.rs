@@ -6,6 +6,7 @@ use std::process::{Command, Output};
 pub const BIN: &str = env!("CARGO_BIN_EXE_space-foosball");
 
 /// Runs `space-foosball ARGS` with no display (so nothing can open a window).
+#[allow(dead_code)] // used by some of the test binaries that include this module
 pub fn run(args: &[&str]) -> Output {
     Command::new(BIN)
         .args(args)

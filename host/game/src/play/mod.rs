@@ -373,6 +373,35 @@ impl Match {
         self.rules.score()
     }
 
+    /// A checksum of where the match is: its clock, score, ball and rods, bit for bit
+    /// (FNV-1a). Two sides of an online match compare it to see that they agree.
+    pub fn state_hash(&self) -> u128 {
+        let s = self.snapshot();
+        let mut words = vec![
+            s.time_s.to_bits(),
+            u64::from(s.score[0]),
+            u64::from(s.score[1]),
+        ];
+        words.extend(
+            s.ball
+                .position
+                .iter()
+                .chain(&s.ball.velocity)
+                .map(|x| x.to_bits()),
+        );
+        for r in &s.rods {
+            words.extend([r.slide_m.to_bits(), r.angle_rad.to_bits()]);
+        }
+        let mut h: u128 = 0x6c62_272e_07bb_0142_62b8_2175_6295_c58d;
+        for w in words {
+            for b in w.to_le_bytes() {
+                h ^= u128::from(b);
+                h = h.wrapping_mul(0x0000_0000_0100_0000_0000_0000_0000_013b);
+            }
+        }
+        h
+    }
+
     /// The match saved for rollback (see [`SavedMatch`]); the recording is not copied.
     pub fn save(&self) -> SavedMatch {
         SavedMatch {

@@ -1,0 +1,109 @@
+//! `space-foosball host` and `space-foosball join ADDRESS`: an online match, headless.
+
+use super::session::{play, LocalRods, OnlineOptions};
+use anyhow::{bail, Context, Result};
+use foosball_sim::motion::script::MotionScript;
+use space_foosball::side::Side;
+use std::net::{SocketAddr, ToSocketAddrs};
+use std::path::PathBuf;
+
+/// What both `host` and `join` take.
+#[derive(clap::Args, Debug)]
+pub struct Common {
+    /// Local UDP port.
+    #[arg(long, default_value_t = 7000)]
+    pub port: u16,
+    /// Table: `standard`, `paper` or a TOML file (both sides the same).
+    #[arg(long, default_value = "standard")]
+    pub table: String,
+    /// The match's seed (both sides the same).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Goals that win (1–99).
+    #[arg(long, default_value_t = 5)]
+    pub goals: u32,
+    /// Drive this side's rods by a motion script (see sim/README.md) instead of holding
+    /// them still.
+    #[arg(long, value_name = "FILE")]
+    pub script: Option<PathBuf>,
+    /// End after this many 60 Hz frames, the match over or not.
+    #[arg(long, value_name = "N")]
+    pub max_frames: Option<u64>,
+    /// Frames of input delay (0–8): fewer rollbacks, later rods.
+    #[arg(long, default_value_t = 2)]
+    pub input_delay: usize,
+    /// Save the match's recording here at the end (for `space-foosball replay`).
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
+}
+
+/// Arguments of `space-foosball host`.
+#[derive(clap::Args, Debug)]
+pub struct HostArgs {
+    /// The joining side's address (`HOST:PORT`).
+    #[arg(long, value_name = "ADDRESS")]
+    pub peer: String,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+/// Arguments of `space-foosball join`.
+#[derive(clap::Args, Debug)]
+pub struct JoinArgs {
+    /// The hosting side's address (`HOST:PORT`).
+    pub address: String,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+fn address(text: &str) -> Result<SocketAddr> {
+    text.to_socket_addrs()
+        .with_context(|| format!("{text:?} is not an address (HOST:PORT)"))?
+        .next()
+        .with_context(|| format!("{text:?} names no address"))
+}
+
+fn run(side: Side, remote: &str, c: &Common) -> Result<()> {
+    if !(1..=99).contains(&c.goals) {
+        bail!("--goals must be 1–99, got {}", c.goals);
+    }
+    if c.input_delay > 8 {
+        bail!("--input-delay must be 0–8 frames, got {}", c.input_delay);
+    }
+    let rods = match &c.script {
+        Some(path) => LocalRods::Script(Box::new(
+            MotionScript::load(path).map_err(|e| anyhow::anyhow!("{e}"))?,
+        )),
+        None => LocalRods::Idle,
+    };
+    let outcome = play(OnlineOptions {
+        side,
+        port: c.port,
+        remote: address(remote)?,
+        table: crate::headless::load_table(&c.table)?,
+        seed: c.seed,
+        goals: c.goals,
+        rods,
+        max_frames: c.max_frames,
+        input_delay: c.input_delay,
+        record: c.record.clone(),
+    })?;
+    println!("{}", serde_json::to_string(&outcome)?);
+    if outcome.desyncs > 0 {
+        bail!(
+            "the two sides' matches differed ({} desyncs)",
+            outcome.desyncs
+        );
+    }
+    Ok(())
+}
+
+/// Hosts an online match: this side plays Home.
+pub fn host(args: &HostArgs) -> Result<()> {
+    run(Side::Home, &args.peer, &args.common)
+}
+
+/// Joins an online match: this side plays Away.
+pub fn join(args: &JoinArgs) -> Result<()> {
+    run(Side::Away, &args.address, &args.common)
+}

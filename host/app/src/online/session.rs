@@ -1,0 +1,301 @@
+//! The online match's frame loop on GGRS (60 frames a second, 16 or 17 physics steps each).
+
+use super::input::{rod_inputs, SideInput};
+use anyhow::{bail, Context, Result};
+use foosball_sim::motion::script::MotionScript;
+use foosball_sim::motion::MotionSource;
+use ggrs::{
+    Config, DesyncDetection, GgrsEvent, GgrsRequest, PlayerType, PredictRepeatLast, SessionBuilder,
+    SessionState, UdpNonBlockingSocket,
+};
+use serde::Serialize;
+use space_foosball::play::{Match, MatchConfig, RodController, SavedMatch};
+use space_foosball::rules::RulesConfig;
+use space_foosball::side::Side;
+use space_foosball::Table;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// Frames a second: the session's clock (the physics steps at 1 kHz within them).
+pub const FPS: u64 = 60;
+/// Frames a side may run ahead of the inputs it has: a rollback is at most this long.
+pub const MAX_PREDICTION_FRAMES: usize = 8;
+/// Frames kept on after the end, so the other side gets the inputs it needs to end too.
+const LINGER_FRAMES: u64 = 90;
+/// Frames between the checksums the sides compare (desync detection).
+const DESYNC_INTERVAL: u32 = 10;
+/// The longest a session waits for the other side to answer before giving up.
+const CONNECT_TIMEOUT: Duration = Duration::from_secs(20);
+
+/// GGRS's types for a foosball match.
+pub struct Foosball;
+
+impl Config for Foosball {
+    type Input = SideInput;
+    type InputPredictor = PredictRepeatLast;
+    type State = FrameState;
+    type Address = SocketAddr;
+}
+
+/// The match saved at the start of a frame.
+#[derive(Clone)]
+pub struct FrameState {
+    saved: SavedMatch,
+    frame: i32,
+}
+
+/// What drives this side's rods.
+pub enum LocalRods {
+    /// Held centred and upright.
+    Idle,
+    /// A motion script (`foosball-sim`'s format), each board port's pose read at the frame's
+    /// time as the rod of the table on that port.
+    Script(Box<MotionScript>),
+}
+
+/// How to play online.
+pub struct OnlineOptions {
+    /// The team played here (the host plays Home, who joins Away).
+    pub side: Side,
+    /// The local UDP port.
+    pub port: u16,
+    /// The other side's address.
+    pub remote: SocketAddr,
+    /// The table (both sides must use the same).
+    pub table: Table,
+    /// The match's seed (both sides must use the same).
+    pub seed: u64,
+    /// Goals that win.
+    pub goals: u32,
+    /// What drives this side's rods.
+    pub rods: LocalRods,
+    /// End after this many frames (the match may still be on), if set.
+    pub max_frames: Option<u64>,
+    /// Frames of input delay.
+    pub input_delay: usize,
+    /// Save the match's recording here at the end.
+    pub record: Option<PathBuf>,
+}
+
+/// How an online match went, printed as its last JSON line.
+#[derive(Debug, Serialize)]
+pub struct OnlineOutcome {
+    /// Always `OnlineOver`.
+    pub event: &'static str,
+    /// The team played here.
+    pub side: Side,
+    /// Frames played (confirmed by both sides).
+    pub frames: u64,
+    /// Whether the match ended (otherwise `max_frames` ended it).
+    pub match_over: bool,
+    /// Score `[home, away]`.
+    pub score: [u32; 2],
+    /// Checksum of the final state (the same on both sides, hex).
+    pub state_hash: String,
+    /// Desyncs GGRS detected (0: both sides stepped alike).
+    pub desyncs: u64,
+    /// Rollbacks (states loaded) and frames stepped again after them.
+    pub rollbacks: u64,
+    /// Frames stepped again.
+    pub resimulated_frames: u64,
+    /// Round trip to the other side at the end, ms.
+    pub ping_ms: u128,
+}
+
+/// The steps of frame `f`: from `f × 1000 / 60` to `(f + 1) × 1000 / 60` ms.
+pub fn steps_of_frame(frame: u64) -> u64 {
+    (frame + 1) * 1000 / FPS - frame * 1000 / FPS
+}
+
+impl LocalRods {
+    /// This side's rods at the start of `frame`.
+    fn input(&mut self, table: &Table, side: Side, frame: u64) -> SideInput {
+        let LocalRods::Script(script) = self else {
+            return SideInput::default();
+        };
+        let poses = script.poses_at(frame * 1_000_000 / FPS);
+        let all: Vec<[f64; 2]> = table
+            .rods
+            .iter()
+            .map(|r| {
+                let p = poses.get(r.port).copied().unwrap_or_default();
+                let half = 0.5 * r.travel_m;
+                [p.axial_m.clamp(-half, half), p.angle_rad]
+            })
+            .collect();
+        SideInput::from_poses(table, side, &all)
+    }
+}
+
+/// Plays an online match to its end (or `max_frames`); its outcome.
+pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
+    let table = opts.table.clone();
+    let mut config = MatchConfig::computer_vs_computer(table.clone(), opts.seed);
+    config.controllers = [RodController::Player; 2];
+    config.rules = RulesConfig {
+        goals_to_win: opts.goals,
+        ..RulesConfig::default()
+    };
+    let mut m = Match::new(config).context("match")?;
+    let socket = UdpNonBlockingSocket::bind_to_port(opts.port)
+        .with_context(|| format!("UDP port {}", opts.port))?;
+    let local = opts.side.index();
+    let mut builder = SessionBuilder::<Foosball>::new()
+        .with_num_players(2)?
+        .with_fps(FPS as usize)?
+        .with_max_prediction_window(MAX_PREDICTION_FRAMES)
+        .with_input_delay(opts.input_delay)
+        .with_desync_detection_mode(DesyncDetection::On {
+            interval: DESYNC_INTERVAL,
+        });
+    builder = builder.add_player(PlayerType::Local, local)?;
+    builder = builder.add_player(PlayerType::Remote(opts.remote), 1 - local)?;
+    let mut sess = builder.start_p2p_session(socket)?;
+
+    let frame_time = Duration::from_micros(1_000_000 / FPS);
+    let started = Instant::now();
+    let mut next = Instant::now();
+    // The frame this side asks for next, and the frame the match's state is at.
+    let mut frame: u64 = 0;
+    let mut state_frame: u64 = 0;
+    // The frame after which the match ended in this timeline (a rollback may undo it).
+    let mut over_at: Option<u64> = None;
+    let last_frame = opts.max_frames.unwrap_or(u64::MAX);
+    let (mut desyncs, mut rollbacks, mut resimulated) = (0u64, 0u64, 0u64);
+    let mut done: Option<OnlineOutcome> = None;
+    let mut lingered = 0u64;
+    loop {
+        sess.poll_remote_clients();
+        let confirmed_now = sess.confirmed_frame();
+        let events: Vec<GgrsEvent<Foosball>> = sess.events().collect();
+        for e in events {
+            match e {
+                GgrsEvent::DesyncDetected { frame, .. } => {
+                    desyncs += 1;
+                    eprintln!("space-foosball: the sides' states differ at frame {frame}");
+                }
+                GgrsEvent::Disconnected { addr } if done.is_none() => {
+                    bail!(
+                        "the other side ({addr}) left the match at frame {state_frame} \
+                         (confirmed {confirmed_now})"
+                    );
+                }
+                GgrsEvent::NetworkInterrupted { addr, .. } => {
+                    eprintln!("space-foosball: no word from {addr}: waiting");
+                }
+                _ => {}
+            }
+        }
+        if sess.current_state() != SessionState::Running {
+            if started.elapsed() > CONNECT_TIMEOUT {
+                bail!(
+                    "no answer from {} within {:?}",
+                    opts.remote,
+                    CONNECT_TIMEOUT
+                );
+            }
+            std::thread::sleep(Duration::from_millis(2));
+            next = Instant::now();
+            continue;
+        }
+        let now = Instant::now();
+        if now < next {
+            std::thread::sleep((next - now).min(Duration::from_millis(2)));
+            continue;
+        }
+        // A side ahead of the other waits a little (GGRS's recommendation, in effect).
+        next += if sess.frames_ahead() > 0 {
+            frame_time.mul_f64(1.1)
+        } else {
+            frame_time
+        };
+        let input = opts.rods.input(&table, opts.side, frame);
+        sess.add_local_input(local, input)?;
+        let requests = match sess.advance_frame() {
+            Ok(r) => r,
+            Err(ggrs::GgrsError::PredictionThreshold) => continue,
+            Err(e) => return Err(e.into()),
+        };
+        frame += 1;
+        let (mut had_load, mut advances) = (false, 0u64);
+        for request in requests {
+            match request {
+                GgrsRequest::SaveGameState { cell, frame: f } => {
+                    debug_assert_eq!(u64::try_from(f).ok(), Some(state_frame));
+                    let state = FrameState {
+                        saved: m.save(),
+                        frame: f,
+                    };
+                    cell.save(f, Some(state), Some(m.state_hash()));
+                }
+                GgrsRequest::LoadGameState { cell, frame: f } => {
+                    let Some(state) = cell.load() else {
+                        bail!("GGRS lost the match's state of frame {f}");
+                    };
+                    m.restore(&state.saved);
+                    state_frame = u64::try_from(state.frame).unwrap_or(0);
+                    if !m.is_over() {
+                        over_at = None;
+                    }
+                    had_load = true;
+                    rollbacks += 1;
+                }
+                GgrsRequest::AdvanceFrame { inputs } => {
+                    // Frames past the last one change nothing: the final state stays put
+                    // while the other side confirms it.
+                    if state_frame < last_frame {
+                        let sides = [&inputs[0].0, &inputs[1].0];
+                        let rods = rod_inputs(&table, sides, m.time_ms());
+                        for _ in 0..steps_of_frame(state_frame) {
+                            m.step(&rods);
+                        }
+                    }
+                    state_frame += 1;
+                    if m.is_over() && over_at.is_none() {
+                        over_at = Some(state_frame);
+                    }
+                    advances += 1;
+                }
+            }
+        }
+        // After a load, every frame but the new one was stepped again.
+        if had_load {
+            resimulated += advances.saturating_sub(1);
+        }
+        if done.is_some() {
+            lingered += 1;
+            if lingered >= LINGER_FRAMES {
+                break;
+            }
+            continue;
+        }
+        // The state is final once every frame up to its end is confirmed by both sides.
+        let end = over_at.unwrap_or(last_frame).min(last_frame);
+        let confirmed = u64::try_from(sess.confirmed_frame() + 1).unwrap_or(0);
+        if state_frame >= end && confirmed >= end {
+            let played = end;
+            if let Some(path) = &opts.record {
+                m.recording()
+                    .save(path)
+                    .map_err(|e| anyhow::anyhow!("saving the recording: {e}"))?;
+            }
+            let ping_ms = sess.network_stats(1 - local).map_or(0, |s| s.ping);
+            done = Some(OnlineOutcome {
+                event: "OnlineOver",
+                side: opts.side,
+                frames: played,
+                match_over: m.is_over(),
+                score: m.score(),
+                state_hash: format!("{:032x}", m.state_hash()),
+                desyncs,
+                rollbacks,
+                resimulated_frames: resimulated,
+                ping_ms,
+            });
+        }
+    }
+    let mut out = done.expect("the loop ends only once done");
+    out.desyncs = desyncs;
+    Ok(out)
+}
