@@ -8,7 +8,7 @@
 //! ±inf) or scaled by a power of ten, an array element duplicated, removed or the array
 //! emptied, a key removed, a string emptied or swapped for a known one.
 
-use space_foosball::play::SplitMix64;
+use space_foosball::play::MatchRng;
 
 use crate::Format;
 
@@ -72,12 +72,12 @@ const STRINGS: [&str; 10] = [
 ];
 
 /// Random choices for the mutator.
-pub struct Rng(SplitMix64);
+pub struct Rng(MatchRng);
 
 impl Rng {
     /// A generator seeded with `seed`.
     pub fn new(seed: u64) -> Self {
-        Self(SplitMix64::new(seed))
+        Self(MatchRng::new(seed))
     }
 
     /// A number in `0..n` (`n > 0`).
