@@ -34,6 +34,7 @@ use space_foosball::input::calibration::Calibration;
 use space_foosball::input::paddles::{BoardInput, MOUSE_PACKET_PREDICTION_MS, PS2_WIRE_LEAD_MS};
 use space_foosball::play::{idle_inputs, Match, MatchConfig};
 use space_foosball::rules::RulesConfig;
+use space_foosball::Table;
 use std::time::Instant;
 
 /// Arguments of `space-foosball bench`.
@@ -83,16 +84,22 @@ pub fn run(args: &Args) -> Result<()> {
 
 const WARM_UP_STEPS: u64 = 1000;
 
-/// Step times, µs, sorted.
-fn time_steps(args: &MatchArgs) -> Result<(Vec<f64>, [u32; 2], u64)> {
-    let table = crate::headless::load_table(&args.table)?;
-    let mut config = MatchConfig::computer_vs_computer(table.clone(), args.seed);
-    // Never let the match end during the measurement.
+/// The computer against itself on `table` (name or file) with `seed`, to 99 goals: a
+/// match that does not end during a measurement.
+pub(crate) fn endless_match(table: &str, seed: u64) -> Result<(Table, Match)> {
+    let table = crate::headless::load_table(table)?;
+    let mut config = MatchConfig::computer_vs_computer(table.clone(), seed);
     config.rules = RulesConfig {
         goals_to_win: 99,
         ..RulesConfig::default()
     };
-    let mut m = Match::new(config).context("match")?;
+    let m = Match::new(config).context("match")?;
+    Ok((table, m))
+}
+
+/// Step times, µs, sorted.
+fn time_steps(args: &MatchArgs) -> Result<(Vec<f64>, [u32; 2], u64)> {
+    let (table, mut m) = endless_match(&args.table, args.seed)?;
     let inputs = idle_inputs(&table);
     for _ in 0..WARM_UP_STEPS {
         m.step(&inputs);

@@ -12,9 +12,8 @@
 //!  "restore_us_median", "restore_us_worst", "rollback_ms_median", "rollback_ms_worst"}
 //! ```
 
-use anyhow::{bail, Context, Result};
-use space_foosball::play::{idle_inputs, Match, MatchConfig};
-use space_foosball::rules::RulesConfig;
+use anyhow::{bail, Result};
+use space_foosball::play::idle_inputs;
 use std::time::Instant;
 
 /// Frames rolled back: eight at 60 Hz.
@@ -49,13 +48,7 @@ pub fn run(args: &RollbackArgs) -> Result<()> {
     if !(1..=1000).contains(&args.repeats) {
         bail!("--repeats must be 1–1000, got {}", args.repeats);
     }
-    let table = crate::headless::load_table(&args.table)?;
-    let mut config = MatchConfig::computer_vs_computer(table.clone(), args.seed);
-    config.rules = RulesConfig {
-        goals_to_win: 99,
-        ..RulesConfig::default()
-    };
-    let mut m = Match::new(config).context("match")?;
+    let (table, mut m) = crate::bench::endless_match(&args.table, args.seed)?;
     let inputs = idle_inputs(&table);
     let steps = steps_of_frames(ROLLBACK_FRAMES);
     // Into play first, and between repeats, so the moments spread over the match.
