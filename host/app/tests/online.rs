@@ -184,6 +184,68 @@ fn two_processes_play_one_match_through_a_late_lossy_relay() {
     assert_eq!(offline["score"], h["score"]);
 }
 
+/// The joining side is killed after 2.5 s; the host, still playing, says the other side
+/// left, and keeps the match as far as both sides played it: it replays.
+#[test]
+fn a_side_that_leaves_ends_the_match_with_it_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let (port_h, port_j) = (free_port(), free_port());
+    let rec = dir.path().join("kept.json");
+    let host = Command::new(BIN)
+        .args(["host", "--peer", &format!("127.0.0.1:{port_j}")])
+        .args([
+            "--port",
+            &port_h.to_string(),
+            "--max-frames",
+            "3600",
+            "--record",
+        ])
+        .arg(&rec)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut joiner = Command::new(BIN)
+        .args(["join", &format!("127.0.0.1:{port_h}")])
+        .args(["--port", &port_j.to_string(), "--max-frames", "3600"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(2500));
+    joiner.kill().unwrap();
+    joiner.wait().unwrap();
+    let host = host.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&host.stderr);
+    assert!(!host.status.success(), "the host played on alone");
+    assert!(
+        err.contains("left the match") && err.contains("kept"),
+        "{err}"
+    );
+    let replay = Command::new(BIN)
+        .args([
+            "replay",
+            "--home",
+            "player",
+            "--away",
+            "player",
+            "--state-hash",
+        ])
+        .arg(&rec)
+        .output()
+        .unwrap();
+    assert!(
+        replay.status.success(),
+        "{}",
+        String::from_utf8_lossy(&replay.stderr)
+    );
+    let text = String::from_utf8(replay.stdout).unwrap();
+    let kept: Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
+    // At least the second both sides played, and not the hour the host asked for.
+    let ms = kept["time_ms"].as_u64().unwrap();
+    assert!((1000..60_000).contains(&ms), "kept {ms} ms");
+}
+
 #[test]
 fn no_answer_and_a_bad_address_are_clear_errors() {
     let out = Command::new(BIN)

@@ -32,9 +32,13 @@ pub struct Common {
     /// Frames of input delay (0–8): fewer rollbacks, later rods.
     #[arg(long, default_value_t = 2)]
     pub input_delay: usize,
-    /// Save the match's recording here at the end (for `space-foosball replay`).
+    /// Save the match's recording here at the end, or as far as both sides played it
+    /// when the other side leaves (for `space-foosball replay`).
     #[arg(long, value_name = "FILE")]
     pub record: Option<PathBuf>,
+    /// Keep the finished match in this match history (see `space-foosball history`).
+    #[arg(long, value_name = "FILE")]
+    pub history: Option<PathBuf>,
 }
 
 /// Arguments of `space-foosball host`.
@@ -87,6 +91,7 @@ fn run(side: Side, remote: &str, c: &Common) -> Result<()> {
         max_frames: c.max_frames,
         input_delay: c.input_delay,
         record: c.record.clone(),
+        history: c.history.clone(),
     })?;
     println!("{}", serde_json::to_string(&outcome)?);
     if outcome.desyncs > 0 {

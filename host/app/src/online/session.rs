@@ -1,6 +1,8 @@
 //! The online match's frame loop on GGRS (60 frames a second, 16 or 17 physics steps each).
 
 use super::input::{rod_inputs, SideInput};
+use crate::history::record::now_unix_s;
+use crate::history::{HistoryStore, MatchRecord, Mode};
 use anyhow::{bail, Context, Result};
 use foosball_sim::motion::script::MotionScript;
 use foosball_sim::motion::MotionSource;
@@ -10,9 +12,10 @@ use ggrs::{
 };
 use serde::Serialize;
 use space_foosball::play::{Match, MatchConfig, RodController, SavedMatch};
-use space_foosball::rules::RulesConfig;
+use space_foosball::rules::{Event, RulesConfig, TimedEvent};
 use space_foosball::side::Side;
 use space_foosball::Table;
+use std::collections::VecDeque;
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -25,6 +28,8 @@ pub const MAX_PREDICTION_FRAMES: usize = 8;
 const LINGER_FRAMES: u64 = 90;
 /// Frames between the checksums the sides compare (desync detection).
 const DESYNC_INTERVAL: u32 = 10;
+/// Most kicks kept for the history (hours of play).
+const MAX_KEPT_EVENTS: usize = 100_000;
 /// The longest a session waits for the other side to answer before giving up.
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(20);
 
@@ -74,8 +79,10 @@ pub struct OnlineOptions {
     pub max_frames: Option<u64>,
     /// Frames of input delay.
     pub input_delay: usize,
-    /// Save the match's recording here at the end.
+    /// Save the match's recording here at the end, or where the other side left.
     pub record: Option<PathBuf>,
+    /// Keep the finished match in this match history.
+    pub history: Option<PathBuf>,
 }
 
 /// How an online match went, printed as its last JSON line.
@@ -128,6 +135,37 @@ impl LocalRods {
     }
 }
 
+fn save_recording(m: &Match, path: &std::path::Path) -> Result<()> {
+    m.recording()
+        .save(path)
+        .map_err(|e| anyhow::anyhow!("saving the recording {}: {e}", path.display()))
+}
+
+/// Keeps a finished online match in the history at `path` (`events`: its kicks and end,
+/// as confirmed by both sides); one ended by `--max-frames` before its end is not kept.
+fn keep_in_history(
+    events: &[TimedEvent],
+    table: &Table,
+    side: Side,
+    remote: SocketAddr,
+    seed: u64,
+    path: &std::path::Path,
+) -> Result<()> {
+    if !events
+        .iter()
+        .any(|e| matches!(e.event, Event::MatchOver { .. }))
+    {
+        return Ok(());
+    }
+    let mut teams = [String::new(), String::new()];
+    teams[side.index()] = "local".into();
+    teams[side.other().index()] = format!("peer {remote}");
+    let record = MatchRecord::from_events(events, table, teams, Mode::Online, seed, now_unix_s())
+        .context("the match's end is not among its events")?;
+    HistoryStore::open(path)?.add(&record)?;
+    Ok(())
+}
+
 /// Plays an online match to its end (or `max_frames`); its outcome.
 pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
     let table = opts.table.clone();
@@ -165,6 +203,10 @@ pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
     let (mut desyncs, mut rollbacks, mut resimulated) = (0u64, 0u64, 0u64);
     let mut done: Option<OnlineOutcome> = None;
     let mut lingered = 0u64;
+    // The newest saves, for keeping the match as far as both sides confirmed it.
+    let mut saves: VecDeque<FrameState> = VecDeque::with_capacity(MAX_PREDICTION_FRAMES + 2);
+    // The kicks and the end, with the frame that made them (a rollback drops the later).
+    let mut kept_events: Vec<(u64, TimedEvent)> = Vec::new();
     loop {
         sess.poll_remote_clients();
         let confirmed_now = sess.confirmed_frame();
@@ -176,10 +218,19 @@ pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
                     eprintln!("space-foosball: the sides' states differ at frame {frame}");
                 }
                 GgrsEvent::Disconnected { addr } if done.is_none() => {
-                    bail!(
-                        "the other side ({addr}) left the match at frame {state_frame} \
-                         (confirmed {confirmed_now})"
-                    );
+                    // The match as both sides confirmed it, kept where asked.
+                    let kept = u64::try_from(confirmed_now + 1).unwrap_or(0);
+                    if let Some(s) = saves.iter().find(|s| u64::try_from(s.frame) == Ok(kept)) {
+                        m.restore(&s.saved);
+                    }
+                    let where_kept = match &opts.record {
+                        Some(path) => {
+                            save_recording(&m, path)?;
+                            format!("; the match to then is kept in {}", path.display())
+                        }
+                        None => String::new(),
+                    };
+                    bail!("the other side ({addr}) left the match at frame {kept}{where_kept}");
                 }
                 GgrsEvent::NetworkInterrupted { addr, .. } => {
                     eprintln!("space-foosball: no word from {addr}: waiting");
@@ -227,6 +278,11 @@ pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
                         saved: m.save(),
                         frame: f,
                     };
+                    if saves.len() > MAX_PREDICTION_FRAMES + 1 {
+                        saves.pop_front();
+                    }
+                    saves.retain(|s| s.frame < f);
+                    saves.push_back(state.clone());
                     cell.save(f, Some(state), Some(m.state_hash()));
                 }
                 GgrsRequest::LoadGameState { cell, frame: f } => {
@@ -235,6 +291,7 @@ pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
                     };
                     m.restore(&state.saved);
                     state_frame = u64::try_from(state.frame).unwrap_or(0);
+                    kept_events.retain(|(f, _)| *f < state_frame);
                     if !m.is_over() {
                         over_at = None;
                     }
@@ -248,7 +305,16 @@ pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
                         let sides = [&inputs[0].0, &inputs[1].0];
                         let rods = rod_inputs(&table, sides, m.time_ms());
                         for _ in 0..steps_of_frame(state_frame) {
-                            m.step(&rods);
+                            for e in m.step(&rods) {
+                                let keep = match e.event {
+                                    Event::Kick { .. } => kept_events.len() < MAX_KEPT_EVENTS,
+                                    Event::MatchOver { .. } => true,
+                                    _ => false,
+                                };
+                                if keep {
+                                    kept_events.push((state_frame, e));
+                                }
+                            }
                         }
                     }
                     state_frame += 1;
@@ -276,9 +342,11 @@ pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
         if state_frame >= end && confirmed >= end {
             let played = end;
             if let Some(path) = &opts.record {
-                m.recording()
-                    .save(path)
-                    .map_err(|e| anyhow::anyhow!("saving the recording: {e}"))?;
+                save_recording(&m, path)?;
+            }
+            if let Some(path) = &opts.history {
+                let events: Vec<TimedEvent> = kept_events.iter().map(|(_, e)| *e).collect();
+                keep_in_history(&events, &table, opts.side, opts.remote, opts.seed, path)?;
             }
             let ping_ms = sess.network_stats(1 - local).map_or(0, |s| s.ping);
             done = Some(OnlineOutcome {
@@ -298,4 +366,44 @@ pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
     let mut out = done.expect("the loop ends only once done");
     out.desyncs = desyncs;
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_hold_the_steps_of_a_second_between_them() {
+        let steps: u64 = (0..FPS).map(steps_of_frame).sum();
+        assert_eq!(steps, 1000);
+        assert!((0..FPS).all(|f| (16..=17).contains(&steps_of_frame(f))));
+    }
+
+    #[test]
+    fn a_finished_online_match_is_kept_as_online_with_the_peer_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let db = dir.path().join("history.sqlite3");
+        let table = Table::standard();
+        let remote: SocketAddr = "127.0.0.1:7001".parse().unwrap();
+        let kick = TimedEvent {
+            t_ms: 900,
+            event: Event::Kick { rod: 3, speed: 4.5 },
+        };
+        // Not over (ended by --max-frames): nothing kept.
+        keep_in_history(&[kick], &table, Side::Away, remote, 7, &db).unwrap();
+        assert!(!db.exists());
+        let over = TimedEvent {
+            t_ms: 2000,
+            event: Event::MatchOver { score: [0, 1] },
+        };
+        keep_in_history(&[kick, over], &table, Side::Away, remote, 7, &db).unwrap();
+        let kept = HistoryStore::open(&db).unwrap().recent(5).unwrap();
+        assert_eq!(kept.len(), 1);
+        assert_eq!(kept[0].mode, Mode::Online);
+        assert_eq!(
+            kept[0].teams,
+            ["peer 127.0.0.1:7001".to_string(), "local".into()]
+        );
+        assert_eq!((kept[0].score, kept[0].shots.len()), ([0, 1], 1));
+    }
 }
