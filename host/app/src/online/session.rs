@@ -235,6 +235,19 @@ pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
                 GgrsEvent::NetworkInterrupted { addr, .. } => {
                     eprintln!("space-foosball: no word from {addr}: waiting");
                 }
+                GgrsEvent::Synchronized { addr } => {
+                    // The lobby's line: who, which side, how late the rods are sent.
+                    println!(
+                        "{}",
+                        serde_json::json!({
+                            "event": "Synchronized",
+                            "peer": addr,
+                            "side": opts.side,
+                            "input_delay_frames": opts.input_delay,
+                            "after_ms": started.elapsed().as_millis(),
+                        })
+                    );
+                }
                 _ => {}
             }
         }
