@@ -7,8 +7,8 @@ use anyhow::{bail, Context, Result};
 use foosball_sim::motion::script::MotionScript;
 use foosball_sim::motion::MotionSource;
 use ggrs::{
-    Config, DesyncDetection, GgrsEvent, GgrsRequest, PlayerType, PredictRepeatLast, SessionBuilder,
-    SessionState, UdpNonBlockingSocket,
+    Config, DesyncDetection, GgrsEvent, GgrsRequest, P2PSession, PlayerType, PredictRepeatLast,
+    SessionBuilder, SessionState, UdpNonBlockingSocket,
 };
 use serde::Serialize;
 use space_foosball::play::{Match, MatchConfig, RodController, SavedMatch};
@@ -17,7 +17,7 @@ use space_foosball::side::Side;
 use space_foosball::Table;
 use std::collections::VecDeque;
 use std::net::SocketAddr;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// Frames a second: the session's clock (the physics steps at 1 kHz within them).
@@ -166,98 +166,246 @@ fn keep_in_history(
     Ok(())
 }
 
-/// Plays an online match to its end (or `max_frames`); its outcome.
-pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
-    let table = opts.table.clone();
-    let mut config = MatchConfig::computer_vs_computer(table.clone(), opts.seed);
-    config.controllers = [RodController::Player; 2];
-    config.rules = RulesConfig {
-        goals_to_win: opts.goals,
-        ..RulesConfig::default()
-    };
-    let mut m = Match::new(config).context("match")?;
+/// The match side of a session: the match, the frame its state is at, and what the end
+/// and the history need.
+struct OnlineMatch {
+    m: Match,
+    table: Table,
+    /// The frame the match's state is at (frames before it are stepped).
+    state_frame: u64,
+    /// The frame after which the match ended in this timeline (a rollback may undo it).
+    over_at: Option<u64>,
+    /// The last frame stepped (`--max-frames`), or none.
+    last_frame: u64,
+    desyncs: u64,
+    rollbacks: u64,
+    resimulated: u64,
+    /// The newest saves, for keeping the match as far as both sides confirmed it.
+    saves: VecDeque<FrameState>,
+    /// The kicks and the end, with the frame that made them (a rollback drops the later).
+    kept_events: Vec<(u64, TimedEvent)>,
+}
+
+impl OnlineMatch {
+    fn new(opts: &OnlineOptions) -> Result<Self> {
+        let mut config = MatchConfig::computer_vs_computer(opts.table.clone(), opts.seed);
+        config.controllers = [RodController::Player; 2];
+        config.rules = RulesConfig {
+            goals_to_win: opts.goals,
+            ..RulesConfig::default()
+        };
+        Ok(Self {
+            m: Match::new(config).context("match")?,
+            table: opts.table.clone(),
+            state_frame: 0,
+            over_at: None,
+            last_frame: opts.max_frames.unwrap_or(u64::MAX),
+            desyncs: 0,
+            rollbacks: 0,
+            resimulated: 0,
+            saves: VecDeque::with_capacity(MAX_PREDICTION_FRAMES + 2),
+            kept_events: Vec::new(),
+        })
+    }
+
+    /// Carries out GGRS's requests of one frame.
+    fn handle(&mut self, requests: Vec<GgrsRequest<Foosball>>) -> Result<()> {
+        let (mut had_load, mut advances) = (false, 0u64);
+        for request in requests {
+            match request {
+                GgrsRequest::SaveGameState { cell, frame } => {
+                    let state = FrameState {
+                        saved: self.m.save(),
+                        frame,
+                    };
+                    if self.saves.len() > MAX_PREDICTION_FRAMES + 1 {
+                        self.saves.pop_front();
+                    }
+                    self.saves.retain(|s| s.frame < frame);
+                    self.saves.push_back(state.clone());
+                    cell.save(frame, Some(state), Some(self.m.state_hash()));
+                }
+                GgrsRequest::LoadGameState { cell, frame } => {
+                    let Some(state) = cell.load() else {
+                        bail!("GGRS lost the match's state of frame {frame}");
+                    };
+                    self.m.restore(&state.saved);
+                    self.state_frame = u64::try_from(state.frame).unwrap_or(0);
+                    self.kept_events.retain(|(f, _)| *f < self.state_frame);
+                    if !self.m.is_over() {
+                        self.over_at = None;
+                    }
+                    had_load = true;
+                    self.rollbacks += 1;
+                }
+                GgrsRequest::AdvanceFrame { inputs } => {
+                    self.advance([&inputs[0].0, &inputs[1].0]);
+                    advances += 1;
+                }
+            }
+        }
+        // After a load, every frame but the new one was stepped again.
+        if had_load {
+            self.resimulated += advances.saturating_sub(1);
+        }
+        Ok(())
+    }
+
+    /// Steps one frame with both sides' inputs (`[home, away]`). Frames past the last one
+    /// change nothing: the final state stays put while the other side confirms it.
+    fn advance(&mut self, sides: [&SideInput; 2]) {
+        if self.state_frame < self.last_frame {
+            let rods = rod_inputs(&self.table, sides, self.m.time_ms());
+            for _ in 0..steps_of_frame(self.state_frame) {
+                for e in self.m.step(&rods) {
+                    let keep = match e.event {
+                        Event::Kick { .. } => self.kept_events.len() < MAX_KEPT_EVENTS,
+                        Event::MatchOver { .. } => true,
+                        _ => false,
+                    };
+                    if keep {
+                        self.kept_events.push((self.state_frame, e));
+                    }
+                }
+            }
+        }
+        self.state_frame += 1;
+        if self.m.is_over() && self.over_at.is_none() {
+            self.over_at = Some(self.state_frame);
+        }
+    }
+
+    /// The frame the match ends after: its end, or the last frame asked for.
+    fn end(&self) -> u64 {
+        self.over_at.unwrap_or(self.last_frame).min(self.last_frame)
+    }
+
+    /// The error for a side that left after frame `confirmed` (the last both confirmed),
+    /// the match restored to then and its recording kept where `record` says.
+    fn left(&mut self, addr: SocketAddr, confirmed: i32, record: Option<&Path>) -> anyhow::Error {
+        let kept = u64::try_from(confirmed + 1).unwrap_or(0);
+        if let Some(s) = self
+            .saves
+            .iter()
+            .find(|s| u64::try_from(s.frame) == Ok(kept))
+        {
+            self.m.restore(&s.saved);
+        }
+        let where_kept = match record.map(|path| (path, save_recording(&self.m, path))) {
+            Some((path, Ok(()))) => format!("; the match to then is kept in {}", path.display()),
+            Some((_, Err(e))) => format!("; {e}"),
+            None => String::new(),
+        };
+        anyhow::anyhow!("the other side ({addr}) left the match at frame {kept}{where_kept}")
+    }
+
+    /// The outcome once the match has ended, keeping it where asked.
+    fn finish(&self, opts: &OnlineOptions, ping_ms: u128) -> Result<OnlineOutcome> {
+        if let Some(path) = &opts.record {
+            save_recording(&self.m, path)?;
+        }
+        if let Some(path) = &opts.history {
+            let events: Vec<TimedEvent> = self.kept_events.iter().map(|(_, e)| *e).collect();
+            keep_in_history(
+                &events,
+                &self.table,
+                opts.side,
+                opts.remote,
+                opts.seed,
+                path,
+            )?;
+        }
+        Ok(OnlineOutcome {
+            event: "OnlineOver",
+            side: opts.side,
+            frames: self.end(),
+            match_over: self.m.is_over(),
+            score: self.m.score(),
+            state_hash: format!("{:032x}", self.m.state_hash()),
+            desyncs: self.desyncs,
+            rollbacks: self.rollbacks,
+            resimulated_frames: self.resimulated,
+            ping_ms,
+        })
+    }
+}
+
+/// Starts the GGRS session: this side local, the other at `opts.remote`.
+fn start_session(opts: &OnlineOptions) -> Result<P2PSession<Foosball>> {
     let socket = UdpNonBlockingSocket::bind_to_port(opts.port)
         .with_context(|| format!("UDP port {}", opts.port))?;
     let local = opts.side.index();
-    let mut builder = SessionBuilder::<Foosball>::new()
+    Ok(SessionBuilder::<Foosball>::new()
         .with_num_players(2)?
         .with_fps(FPS as usize)?
         .with_max_prediction_window(MAX_PREDICTION_FRAMES)
         .with_input_delay(opts.input_delay)
         .with_desync_detection_mode(DesyncDetection::On {
             interval: DESYNC_INTERVAL,
-        });
-    builder = builder.add_player(PlayerType::Local, local)?;
-    builder = builder.add_player(PlayerType::Remote(opts.remote), 1 - local)?;
-    let mut sess = builder.start_p2p_session(socket)?;
+        })
+        .add_player(PlayerType::Local, local)?
+        .add_player(PlayerType::Remote(opts.remote), 1 - local)?
+        .start_p2p_session(socket)?)
+}
 
+/// Handles the session's events; an error where the other side left before the end.
+fn handle_events(
+    sess: &mut P2PSession<Foosball>,
+    game: &mut OnlineMatch,
+    opts: &OnlineOptions,
+    done: bool,
+    started: Instant,
+) -> Result<()> {
+    let confirmed = sess.confirmed_frame();
+    for e in sess.events().collect::<Vec<_>>() {
+        match e {
+            GgrsEvent::DesyncDetected { frame, .. } => {
+                game.desyncs += 1;
+                eprintln!("space-foosball: the sides' states differ at frame {frame}");
+            }
+            GgrsEvent::Disconnected { addr } if !done => {
+                return Err(game.left(addr, confirmed, opts.record.as_deref()));
+            }
+            GgrsEvent::NetworkInterrupted { addr, .. } => {
+                eprintln!("space-foosball: no word from {addr}: waiting");
+            }
+            GgrsEvent::Synchronized { addr } => {
+                // The lobby's line: who, which side, how late the rods are sent.
+                println!(
+                    "{}",
+                    serde_json::json!({
+                        "event": "Synchronized",
+                        "peer": addr,
+                        "side": opts.side,
+                        "input_delay_frames": opts.input_delay,
+                        "after_ms": started.elapsed().as_millis(),
+                    })
+                );
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// Plays an online match to its end (or `max_frames`); its outcome.
+pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
+    let mut game = OnlineMatch::new(&opts)?;
+    let mut sess = start_session(&opts)?;
+    let local = opts.side.index();
     let frame_time = Duration::from_micros(1_000_000 / FPS);
     let started = Instant::now();
     let mut next = Instant::now();
-    // The frame this side asks for next, and the frame the match's state is at.
+    // The frame this side asks for next.
     let mut frame: u64 = 0;
-    let mut state_frame: u64 = 0;
-    // The frame after which the match ended in this timeline (a rollback may undo it).
-    let mut over_at: Option<u64> = None;
-    let last_frame = opts.max_frames.unwrap_or(u64::MAX);
-    let (mut desyncs, mut rollbacks, mut resimulated) = (0u64, 0u64, 0u64);
     let mut done: Option<OnlineOutcome> = None;
     let mut lingered = 0u64;
-    // The newest saves, for keeping the match as far as both sides confirmed it.
-    let mut saves: VecDeque<FrameState> = VecDeque::with_capacity(MAX_PREDICTION_FRAMES + 2);
-    // The kicks and the end, with the frame that made them (a rollback drops the later).
-    let mut kept_events: Vec<(u64, TimedEvent)> = Vec::new();
     loop {
         sess.poll_remote_clients();
-        let confirmed_now = sess.confirmed_frame();
-        let events: Vec<GgrsEvent<Foosball>> = sess.events().collect();
-        for e in events {
-            match e {
-                GgrsEvent::DesyncDetected { frame, .. } => {
-                    desyncs += 1;
-                    eprintln!("space-foosball: the sides' states differ at frame {frame}");
-                }
-                GgrsEvent::Disconnected { addr } if done.is_none() => {
-                    // The match as both sides confirmed it, kept where asked.
-                    let kept = u64::try_from(confirmed_now + 1).unwrap_or(0);
-                    if let Some(s) = saves.iter().find(|s| u64::try_from(s.frame) == Ok(kept)) {
-                        m.restore(&s.saved);
-                    }
-                    let where_kept = match &opts.record {
-                        Some(path) => {
-                            save_recording(&m, path)?;
-                            format!("; the match to then is kept in {}", path.display())
-                        }
-                        None => String::new(),
-                    };
-                    bail!("the other side ({addr}) left the match at frame {kept}{where_kept}");
-                }
-                GgrsEvent::NetworkInterrupted { addr, .. } => {
-                    eprintln!("space-foosball: no word from {addr}: waiting");
-                }
-                GgrsEvent::Synchronized { addr } => {
-                    // The lobby's line: who, which side, how late the rods are sent.
-                    println!(
-                        "{}",
-                        serde_json::json!({
-                            "event": "Synchronized",
-                            "peer": addr,
-                            "side": opts.side,
-                            "input_delay_frames": opts.input_delay,
-                            "after_ms": started.elapsed().as_millis(),
-                        })
-                    );
-                }
-                _ => {}
-            }
-        }
+        handle_events(&mut sess, &mut game, &opts, done.is_some(), started)?;
         if sess.current_state() != SessionState::Running {
             if started.elapsed() > CONNECT_TIMEOUT {
-                bail!(
-                    "no answer from {} within {:?}",
-                    opts.remote,
-                    CONNECT_TIMEOUT
-                );
+                bail!("no answer from {} within {CONNECT_TIMEOUT:?}", opts.remote);
             }
             std::thread::sleep(Duration::from_millis(2));
             next = Instant::now();
@@ -274,74 +422,14 @@ pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
         } else {
             frame_time
         };
-        let input = opts.rods.input(&table, opts.side, frame);
+        let input = opts.rods.input(&game.table, opts.side, frame);
         sess.add_local_input(local, input)?;
-        let requests = match sess.advance_frame() {
-            Ok(r) => r,
+        match sess.advance_frame() {
+            Ok(requests) => game.handle(requests)?,
             Err(ggrs::GgrsError::PredictionThreshold) => continue,
             Err(e) => return Err(e.into()),
-        };
+        }
         frame += 1;
-        let (mut had_load, mut advances) = (false, 0u64);
-        for request in requests {
-            match request {
-                GgrsRequest::SaveGameState { cell, frame: f } => {
-                    debug_assert_eq!(u64::try_from(f).ok(), Some(state_frame));
-                    let state = FrameState {
-                        saved: m.save(),
-                        frame: f,
-                    };
-                    if saves.len() > MAX_PREDICTION_FRAMES + 1 {
-                        saves.pop_front();
-                    }
-                    saves.retain(|s| s.frame < f);
-                    saves.push_back(state.clone());
-                    cell.save(f, Some(state), Some(m.state_hash()));
-                }
-                GgrsRequest::LoadGameState { cell, frame: f } => {
-                    let Some(state) = cell.load() else {
-                        bail!("GGRS lost the match's state of frame {f}");
-                    };
-                    m.restore(&state.saved);
-                    state_frame = u64::try_from(state.frame).unwrap_or(0);
-                    kept_events.retain(|(f, _)| *f < state_frame);
-                    if !m.is_over() {
-                        over_at = None;
-                    }
-                    had_load = true;
-                    rollbacks += 1;
-                }
-                GgrsRequest::AdvanceFrame { inputs } => {
-                    // Frames past the last one change nothing: the final state stays put
-                    // while the other side confirms it.
-                    if state_frame < last_frame {
-                        let sides = [&inputs[0].0, &inputs[1].0];
-                        let rods = rod_inputs(&table, sides, m.time_ms());
-                        for _ in 0..steps_of_frame(state_frame) {
-                            for e in m.step(&rods) {
-                                let keep = match e.event {
-                                    Event::Kick { .. } => kept_events.len() < MAX_KEPT_EVENTS,
-                                    Event::MatchOver { .. } => true,
-                                    _ => false,
-                                };
-                                if keep {
-                                    kept_events.push((state_frame, e));
-                                }
-                            }
-                        }
-                    }
-                    state_frame += 1;
-                    if m.is_over() && over_at.is_none() {
-                        over_at = Some(state_frame);
-                    }
-                    advances += 1;
-                }
-            }
-        }
-        // After a load, every frame but the new one was stepped again.
-        if had_load {
-            resimulated += advances.saturating_sub(1);
-        }
         if done.is_some() {
             lingered += 1;
             if lingered >= LINGER_FRAMES {
@@ -350,34 +438,15 @@ pub fn play(mut opts: OnlineOptions) -> Result<OnlineOutcome> {
             continue;
         }
         // The state is final once every frame up to its end is confirmed by both sides.
-        let end = over_at.unwrap_or(last_frame).min(last_frame);
+        let end = game.end();
         let confirmed = u64::try_from(sess.confirmed_frame() + 1).unwrap_or(0);
-        if state_frame >= end && confirmed >= end {
-            let played = end;
-            if let Some(path) = &opts.record {
-                save_recording(&m, path)?;
-            }
-            if let Some(path) = &opts.history {
-                let events: Vec<TimedEvent> = kept_events.iter().map(|(_, e)| *e).collect();
-                keep_in_history(&events, &table, opts.side, opts.remote, opts.seed, path)?;
-            }
+        if game.state_frame >= end && confirmed >= end {
             let ping_ms = sess.network_stats(1 - local).map_or(0, |s| s.ping);
-            done = Some(OnlineOutcome {
-                event: "OnlineOver",
-                side: opts.side,
-                frames: played,
-                match_over: m.is_over(),
-                score: m.score(),
-                state_hash: format!("{:032x}", m.state_hash()),
-                desyncs,
-                rollbacks,
-                resimulated_frames: resimulated,
-                ping_ms,
-            });
+            done = Some(game.finish(&opts, ping_ms)?);
         }
     }
     let mut out = done.expect("the loop ends only once done");
-    out.desyncs = desyncs;
+    out.desyncs = game.desyncs;
     Ok(out)
 }
 
