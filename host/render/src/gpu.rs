@@ -1,13 +1,14 @@
 //! The wgpu renderer: device, pipelines and offscreen frames.
 
 use crate::image::RgbaImage;
-use crate::scene::{self, Hud, MeshInstance, Scene, Screen, Sprite, UiRect};
+use crate::scene::{self, Hud, Scene, Screen};
 use crate::view::FrameSnapshot;
 use crate::RenderError;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
 mod device;
+mod pipelines;
 mod readback;
 
 #[cfg(target_arch = "wasm32")]
@@ -21,7 +22,7 @@ pub(crate) use readback::{copy_to_buffer, padded_row_bytes, read_buffer};
 pub(crate) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// The nebula's texture format: sRGB storage keeps the dark gradients free of banding.
-const NEBULA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+pub(crate) const NEBULA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 /// The nebula is drawn at `1 / NEBULA_DOWNSCALE` of the frame's width and height and
 /// filtered up (`fs_nebula` in `scene.wgsl`).
 const NEBULA_DOWNSCALE: u32 = 4;
@@ -67,7 +68,7 @@ pub(crate) fn star_grid(width: u32, height: u32) -> ([f32; 3], [f32; 3], u32) {
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-struct Vertex {
+pub(crate) struct Vertex {
     pos: [f32; 3],
     normal: [f32; 3],
 }
@@ -165,231 +166,18 @@ impl Renderer {
         adapter: AdapterSummary,
         color_format: wgpu::TextureFormat,
     ) -> Renderer {
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("scene.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("shaders/scene.wgsl").into()),
-        });
-        let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("globals"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
-        });
-        let sky_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("nebula texture"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                    count: None,
-                },
-            ],
-        });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("scene"),
-            bind_group_layouts: &[&bind_layout],
-            push_constant_ranges: &[],
-        });
-        let sky_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("sky"),
-            bind_group_layouts: &[&bind_layout, &sky_layout],
-            push_constant_ranges: &[],
-        });
-        let vertex_layout = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<Vertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
-        };
-        let mesh_instances = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<MeshInstance>() as u64,
-            step_mode: wgpu::VertexStepMode::Instance,
-            attributes: &wgpu::vertex_attr_array![
-                2 => Float32x4, 3 => Float32x4, 4 => Float32x4, 5 => Float32x4
-            ],
-        };
-        let sprite_instances = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<Sprite>() as u64,
-            step_mode: wgpu::VertexStepMode::Instance,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4, 2 => Float32x4],
-        };
-        let ui_instances = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<UiRect>() as u64,
-            step_mode: wgpu::VertexStepMode::Instance,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x4, 1 => Float32x4],
-        };
-        let premultiplied = wgpu::BlendState {
-            color: wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
-                operation: wgpu::BlendOperation::Add,
-            },
-            alpha: wgpu::BlendComponent::OVER,
-        };
-        let additive = wgpu::BlendState {
-            color: wgpu::BlendComponent {
-                src_factor: wgpu::BlendFactor::One,
-                dst_factor: wgpu::BlendFactor::One,
-                operation: wgpu::BlendOperation::Add,
-            },
-            alpha: wgpu::BlendComponent::OVER,
-        };
-        let pipeline = |label: &str,
-                        vs: &str,
-                        fs: &str,
-                        buffers: &[wgpu::VertexBufferLayout],
-                        blend: Option<wgpu::BlendState>,
-                        depth_write: bool,
-                        depth_compare: wgpu::CompareFunction,
-                        cull: Option<wgpu::Face>,
-                        layout: &wgpu::PipelineLayout| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(layout),
-                vertex: wgpu::VertexState {
-                    module: &shader,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers,
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: &shader,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format: color_format,
-                        blend,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: cull,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: depth_write,
-                    depth_compare,
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                multiview: None,
-                cache: None,
-            })
-        };
-        use wgpu::CompareFunction::{Always, Less, LessEqual};
-        // The sky at the far plane: only where no mesh was drawn (depth still cleared).
-        let sky = pipeline(
-            "sky",
-            "vs_bg",
-            "fs_sky",
-            &[],
-            None,
-            false,
-            LessEqual,
-            None,
-            &sky_pipeline_layout,
-        );
-        let stars = pipeline(
-            "stars",
-            "vs_star",
-            "fs_star",
-            &[],
-            Some(additive),
-            false,
-            LessEqual,
-            None,
-            &layout,
-        );
-        let nebula = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("nebula"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_bg"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_nebula"),
-                compilation_options: Default::default(),
-                targets: &[Some(NEBULA_FORMAT.into())],
-            }),
-            primitive: Default::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            multiview: None,
-            cache: None,
-        });
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("nebula"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
-        let mesh = pipeline(
-            "mesh",
-            "vs_mesh",
-            "fs_mesh",
-            &[vertex_layout, mesh_instances],
-            None,
-            true,
-            Less,
-            Some(wgpu::Face::Back),
-            &layout,
-        );
-        let shadow = pipeline(
-            "shadow",
-            "vs_sprite",
-            "fs_sprite",
-            std::slice::from_ref(&sprite_instances),
-            Some(premultiplied),
-            false,
-            LessEqual,
-            None,
-            &layout,
-        );
-        let glow = pipeline(
-            "glow",
-            "vs_sprite",
-            "fs_sprite",
-            &[sprite_instances],
-            Some(additive),
-            false,
-            LessEqual,
-            None,
-            &layout,
-        );
-        let ui = pipeline(
-            "ui",
-            "vs_ui",
-            "fs_ui",
-            &[ui_instances],
-            Some(premultiplied),
-            false,
-            Always,
-            None,
-            &layout,
-        );
+        let pipelines::Pipelines {
+            bind_layout,
+            sky_layout,
+            sampler,
+            nebula,
+            sky,
+            stars,
+            mesh,
+            shadow,
+            glow,
+            ui,
+        } = pipelines::Pipelines::new(&device, color_format);
         let (cv, ci) = cube_mesh();
         let (sv, si) = sphere_mesh(BALL_SPHERE.0, BALL_SPHERE.1);
         let (pv, pi) = sphere_mesh(SMALL_SPHERE.0, SMALL_SPHERE.1);
