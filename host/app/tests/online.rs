@@ -93,6 +93,26 @@ impl Relay {
     }
 }
 
+/// The last line of `replay --state-hash` of a recording: the offline run of its inputs.
+fn offline_run(recording: &std::path::Path) -> Value {
+    let replay = Command::new(BIN)
+        .args([
+            "replay",
+            "--home",
+            "player",
+            "--away",
+            "player",
+            "--state-hash",
+        ])
+        .arg(recording)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&replay.stderr);
+    assert!(replay.status.success(), "{stderr}");
+    let text = String::from_utf8(replay.stdout).unwrap();
+    serde_json::from_str(text.lines().last().expect("a last line")).unwrap()
+}
+
 fn outcome(out: &std::process::Output, who: &str) -> Value {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
@@ -161,25 +181,7 @@ fn two_processes_play_one_match_through_a_late_lossy_relay() {
         std::fs::read(&rec_h).unwrap(),
         std::fs::read(&rec_j).unwrap()
     );
-    let replay = Command::new(BIN)
-        .args([
-            "replay",
-            "--home",
-            "player",
-            "--away",
-            "player",
-            "--state-hash",
-        ])
-        .arg(&rec_h)
-        .output()
-        .unwrap();
-    assert!(
-        replay.status.success(),
-        "{}",
-        String::from_utf8_lossy(&replay.stderr)
-    );
-    let text = String::from_utf8(replay.stdout).unwrap();
-    let offline: Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
+    let offline = offline_run(&rec_h);
     assert_eq!(offline["state_hash"], h["state_hash"], "offline {offline}");
     assert_eq!(offline["score"], h["score"]);
 }
@@ -222,25 +224,7 @@ fn a_side_that_leaves_ends_the_match_with_it_kept() {
         err.contains("left the match") && err.contains("kept"),
         "{err}"
     );
-    let replay = Command::new(BIN)
-        .args([
-            "replay",
-            "--home",
-            "player",
-            "--away",
-            "player",
-            "--state-hash",
-        ])
-        .arg(&rec)
-        .output()
-        .unwrap();
-    assert!(
-        replay.status.success(),
-        "{}",
-        String::from_utf8_lossy(&replay.stderr)
-    );
-    let text = String::from_utf8(replay.stdout).unwrap();
-    let kept: Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
+    let kept = offline_run(&rec);
     // At least the second both sides played, and not the hour the host asked for.
     let ms = kept["time_ms"].as_u64().unwrap();
     assert!((1000..60_000).contains(&ms), "kept {ms} ms");
