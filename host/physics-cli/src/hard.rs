@@ -5,8 +5,9 @@ use anyhow::{bail, Result};
 use std::time::Instant;
 use virtual_physics::measure::hard::{self, HardCase, Outcome};
 
-/// Runs the cases (the table's, and with `variants` their variants too), or only those named.
-pub fn run(variants: bool, only: &[String], json: bool) -> Result<()> {
+/// Runs the cases (the table's, and with `variants` their variants too), or only those named,
+/// with steps `finer` times finer at the same substep ([`refine`]).
+pub fn run(variants: bool, only: &[String], json: bool, finer: u32) -> Result<()> {
     let mut cases = hard::cases();
     if variants || !only.is_empty() {
         cases.extend(hard::variants());
@@ -20,6 +21,9 @@ pub fn run(variants: bool, only: &[String], json: bool) -> Result<()> {
             );
         }
         cases.retain(|c| only.contains(&c.name));
+    }
+    for case in &mut cases {
+        refine(case, finer)?;
     }
     if !json {
         println!("| case | pass | figure | value | bound | ms/step |\n|---|---|---|---|---|---|");
@@ -44,6 +48,23 @@ pub fn run(variants: bool, only: &[String], json: bool) -> Result<()> {
             failed.join(", ")
         );
     }
+    Ok(())
+}
+
+/// Divides `case`'s step and substeps by `n` and multiplies its steps by `n`: the same
+/// substep and the same span of time, in steps `n` times shorter.
+fn refine(case: &mut HardCase, n: u32) -> Result<()> {
+    let scene = &mut case.scene;
+    let substeps = scene.solver.substeps;
+    if n == 0 || substeps % i64::from(n) != 0 {
+        bail!(
+            "--finer {n}: case {} takes {substeps} substeps a step, which {n} does not divide",
+            case.name
+        );
+    }
+    scene.dt /= f64::from(n);
+    scene.solver.substeps = substeps / i64::from(n);
+    scene.steps = Some(scene.steps.unwrap_or(600) * u64::from(n));
     Ok(())
 }
 

@@ -189,6 +189,11 @@ enum Cmd {
         /// One JSON object per case instead of the table.
         #[arg(long)]
         json: bool,
+        /// Steps N times finer at the same substep: each case's step divided by N and its
+        /// substeps too (N must divide them), N times the steps. How a figure depends on
+        /// the step rather than the substep; the bounds stay the defaults'.
+        #[arg(long, value_name = "N", default_value_t = 1)]
+        finer: u32,
     },
     /// Comparisons with other engines (Pinocchio).
     Peers {
@@ -240,7 +245,8 @@ fn dispatch(cli: Cli) -> Result<()> {
             variants,
             case,
             json,
-        } => hard::run(variants, &case, json),
+            finer,
+        } => hard::run(variants, &case, json, finer),
         Cmd::Effects { json, steps } => effects::run(json, steps),
         Cmd::Accuracy {
             quick,
