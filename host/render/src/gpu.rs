@@ -113,16 +113,8 @@ pub struct Renderer {
     pub(crate) queue: wgpu::Queue,
     adapter: AdapterSummary,
     color_format: wgpu::TextureFormat,
-    bind_layout: wgpu::BindGroupLayout,
-    sky_layout: wgpu::BindGroupLayout,
-    sampler: wgpu::Sampler,
-    nebula: wgpu::RenderPipeline,
-    sky: wgpu::RenderPipeline,
-    stars: wgpu::RenderPipeline,
-    mesh: wgpu::RenderPipeline,
-    shadow: wgpu::RenderPipeline,
-    glow: wgpu::RenderPipeline,
-    ui: wgpu::RenderPipeline,
+    /// The bind group layouts, the pipelines and the sampler.
+    pipes: pipelines::Pipelines,
     cube: Mesh,
     sphere: Mesh,
     small_sphere: Mesh,
@@ -166,18 +158,7 @@ impl Renderer {
         adapter: AdapterSummary,
         color_format: wgpu::TextureFormat,
     ) -> Renderer {
-        let pipelines::Pipelines {
-            bind_layout,
-            sky_layout,
-            sampler,
-            nebula,
-            sky,
-            stars,
-            mesh,
-            shadow,
-            glow,
-            ui,
-        } = pipelines::Pipelines::new(&device, color_format);
+        let pipes = pipelines::Pipelines::new(&device, color_format);
         let (cv, ci) = cube_mesh();
         let (sv, si) = sphere_mesh(BALL_SPHERE.0, BALL_SPHERE.1);
         let (pv, pi) = sphere_mesh(SMALL_SPHERE.0, SMALL_SPHERE.1);
@@ -189,16 +170,7 @@ impl Renderer {
             queue,
             adapter,
             color_format,
-            bind_layout,
-            sky_layout,
-            sampler,
-            nebula,
-            sky,
-            stars,
-            mesh,
-            shadow,
-            glow,
-            ui,
+            pipes,
             cube,
             sphere,
             small_sphere,
@@ -387,7 +359,7 @@ impl Renderer {
         });
         let bind = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("globals"),
-            layout: &self.bind_layout,
+            layout: &self.pipes.bind_layout,
             entries: &[wgpu::BindGroupEntry {
                 binding: 0,
                 resource: uniform.as_entire_binding(),
@@ -429,7 +401,7 @@ impl Renderer {
                 occlusion_query_set: None,
             });
             pass.set_bind_group(0, &bind, &[]);
-            pass.set_pipeline(&self.nebula);
+            pass.set_pipeline(&self.pipes.nebula);
             pass.draw(0..3, 0..1);
         }
         {
@@ -456,7 +428,7 @@ impl Renderer {
                 occlusion_query_set: None,
             });
             pass.set_bind_group(0, &bind, &[]);
-            pass.set_pipeline(&self.mesh);
+            pass.set_pipeline(&self.pipes.mesh);
             for (mesh, buf, n) in [
                 (&self.cube, &boxes, scene.boxes.len()),
                 (&self.sphere, &spheres, scene.spheres.len()),
@@ -474,15 +446,15 @@ impl Renderer {
                 }
             }
             // The sky after the opaque meshes: the depth test skips the covered pixels.
-            pass.set_pipeline(&self.sky);
+            pass.set_pipeline(&self.pipes.sky);
             pass.set_bind_group(1, &nebula.bind, &[]);
             pass.draw(0..3, 0..1);
-            pass.set_pipeline(&self.stars);
+            pass.set_pipeline(&self.pipes.stars);
             pass.draw(0..6, 0..star_cells);
             for (pipeline, buf, n) in [
-                (&self.shadow, &shadows, scene.shadows.len()),
-                (&self.glow, &particles, scene.particles.len()),
-                (&self.ui, &ui, scene.ui.len()),
+                (&self.pipes.shadow, &shadows, scene.shadows.len()),
+                (&self.pipes.glow, &particles, scene.particles.len()),
+                (&self.pipes.ui, &ui, scene.ui.len()),
             ] {
                 if let Some(buf) = buf {
                     pass.set_pipeline(pipeline);
@@ -515,7 +487,7 @@ impl Renderer {
         let view = texture.create_view(&Default::default());
         let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("nebula texture"),
-            layout: &self.sky_layout,
+            layout: &self.pipes.sky_layout,
             entries: &[
                 wgpu::BindGroupEntry {
                     binding: 0,
@@ -523,7 +495,7 @@ impl Renderer {
                 },
                 wgpu::BindGroupEntry {
                     binding: 1,
-                    resource: wgpu::BindingResource::Sampler(&self.sampler),
+                    resource: wgpu::BindingResource::Sampler(&self.pipes.sampler),
                 },
             ],
         });
