@@ -387,8 +387,11 @@ impl World {
             self.bodies.dp[i] = V3::zeros();
             self.bodies.dtheta[i] = V3::zeros();
         }
-        for (now, start) in self.tree_poses.iter_mut().zip(&self.link_poses) {
-            now.clone_from(start);
+        // The links' poses through the substeps are read only by tree contacts.
+        if !self.tree_contacts.contacts.is_empty() {
+            for (now, start) in self.tree_poses.iter_mut().zip(&self.link_poses) {
+                now.clone_from(start);
+            }
         }
         let coupled = self.coupled_trees();
         if !self.tree_contacts.contacts.is_empty() {
@@ -625,10 +628,11 @@ impl World {
                     .project_positions(&self.joints, &mut self.bodies);
             }
             if plan.coupled {
+                let in_contact = !self.tree_contacts.contacts.is_empty();
                 for (a, poses) in self.articulated.iter_mut().zip(&mut self.tree_poses) {
                     if link_proxies::in_solve(eff, a) {
                         a.position_stage(h);
-                        if a.has_shapes() {
+                        if in_contact && a.has_shapes() {
                             a.model().body_poses_into(a.q(), poses);
                         }
                     }
