@@ -156,6 +156,19 @@ fn tree_extras(
     tree: &crate::model::ArticulatedTree<f64>,
     materials: &[crate::scene::format::MaterialDesc],
 ) {
+    link_shape_problems(r, k, a, tree, materials);
+    drive_problems(r, k, a, tree);
+}
+
+/// Checks a tree's link shapes: links that exist, primitive shapes with sizes in range,
+/// known materials.
+fn link_shape_problems(
+    r: &mut Report,
+    k: usize,
+    a: &crate::scene::format::ArticulatedDesc,
+    tree: &crate::model::ArticulatedTree<f64>,
+    materials: &[crate::scene::format::MaterialDesc],
+) {
     let link = |name: &str| tree.bodies().iter().position(|b| b.name == name);
     for (i, ls) in a.shapes.iter().enumerate() {
         let p = format!("articulated[{k}].shapes[{i}]");
@@ -197,6 +210,17 @@ fn tree_extras(
             }
         }
     }
+}
+
+/// Checks a tree's drives: on links and additive coordinates that exist, with finite
+/// settings.
+fn drive_problems(
+    r: &mut Report,
+    k: usize,
+    a: &crate::scene::format::ArticulatedDesc,
+    tree: &crate::model::ArticulatedTree<f64>,
+) {
+    let link = |name: &str| tree.bodies().iter().position(|b| b.name == name);
     for (i, d) in a.drives.iter().enumerate() {
         let p = format!("articulated[{k}].drives[{i}]");
         let Some(l) = link(&d.joint) else {
