@@ -33,8 +33,6 @@ use foosball_sim::{BoardConfig, InProcessBoard, Pacing};
 use space_foosball::input::calibration::Calibration;
 use space_foosball::input::paddles::{BoardInput, MOUSE_PACKET_PREDICTION_MS, PS2_WIRE_LEAD_MS};
 use space_foosball::play::{idle_inputs, Match, MatchConfig};
-use space_foosball::rules::RulesConfig;
-use space_foosball::Table;
 use std::time::Instant;
 
 /// Arguments of `space-foosball bench`.
@@ -84,22 +82,9 @@ pub fn run(args: &Args) -> Result<()> {
 
 const WARM_UP_STEPS: u64 = 1000;
 
-/// The computer against itself on `table` (name or file) with `seed`, to 99 goals: a
-/// match that does not end during a measurement.
-pub(crate) fn endless_match(table: &str, seed: u64) -> Result<(Table, Match)> {
-    let table = crate::headless::load_table(table)?;
-    let mut config = MatchConfig::computer_vs_computer(table.clone(), seed);
-    config.rules = RulesConfig {
-        goals_to_win: 99,
-        ..RulesConfig::default()
-    };
-    let m = Match::new(config).context("match")?;
-    Ok((table, m))
-}
-
 /// Step times, µs, sorted.
 fn time_steps(args: &MatchArgs) -> Result<(Vec<f64>, [u32; 2], u64)> {
-    let (table, mut m) = endless_match(&args.table, args.seed)?;
+    let (table, mut m) = crate::headless::endless_match(&args.table, args.seed)?;
     let inputs = idle_inputs(&table);
     for _ in 0..WARM_UP_STEPS {
         m.step(&inputs);

@@ -83,6 +83,19 @@ pub fn sound_of(e: &Event) -> Option<Sound> {
     }
 }
 
+/// The computer against itself on `table` (name or file) with `seed`, to 99 goals: a
+/// match that does not end during a measurement.
+pub(crate) fn endless_match(table: &str, seed: u64) -> Result<(Table, Match)> {
+    let table = load_table(table)?;
+    let mut config = MatchConfig::computer_vs_computer(table.clone(), seed);
+    config.rules = RulesConfig {
+        goals_to_win: 99,
+        ..RulesConfig::default()
+    };
+    let m = Match::new(config).context("match")?;
+    Ok((table, m))
+}
+
 /// A table by preset name (`standard`, `paper`) or TOML file.
 pub fn load_table(name: &str) -> Result<Table> {
     if presets::NAMES.contains(&name) {

@@ -48,7 +48,7 @@ pub fn run(args: &RollbackArgs) -> Result<()> {
     if !(1..=1000).contains(&args.repeats) {
         bail!("--repeats must be 1–1000, got {}", args.repeats);
     }
-    let (table, mut m) = crate::bench::endless_match(&args.table, args.seed)?;
+    let (table, mut m) = crate::headless::endless_match(&args.table, args.seed)?;
     let inputs = idle_inputs(&table);
     let steps = steps_of_frames(ROLLBACK_FRAMES);
     // Into play first, and between repeats, so the moments spread over the match.

@@ -6,7 +6,7 @@ use space_foosball::arena::{Arena, ArenaSettings};
 use space_foosball::rules::ContactWith;
 use space_foosball::Table;
 use std::f64::consts::FRAC_PI_2;
-use virtual_physics::geometry::V3;
+use virtual_physics::algebra::Vec3;
 
 fn lifted(table: &Table) -> Vec<RodTarget> {
     table
@@ -27,7 +27,7 @@ fn settle(a: &mut Arena, targets: &[RodTarget], ms: usize) {
 }
 
 /// The signed distance (m) from world point `p` to rod `rod`'s link (bar and men).
-fn rod_distance(a: &Arena, rod: usize, p: V3) -> f64 {
+fn rod_distance(a: &Arena, rod: usize, p: Vec3) -> f64 {
     let body = a.world().body(a.rod_body(rod).unwrap()).unwrap();
     let local = body.rotation().tr_mul(&(p - body.position()));
     body.shape().signed_distance(&local)
@@ -51,8 +51,8 @@ fn men_stand_where_the_table_kinematics_put_them() {
     // The keeper's rounded sole: its lowest point along the leg is the table's foot.
     let th = pose.angle_rad;
     let (fx, fz) = table.foot_xz(0, th);
-    let foot = V3::new(fx, pose.slide_m, fz);
-    let down = V3::new(-th.sin(), 0.0, -th.cos());
+    let foot = Vec3::new(fx, pose.slide_m, fz);
+    let down = Vec3::new(-th.sin(), 0.0, -th.cos());
     assert!(rod_distance(&a, 0, foot).abs() < 1e-9, "sole at the foot");
     assert!(
         rod_distance(&a, 0, foot + down * 1e-3) > 0.9e-3,

@@ -7,8 +7,8 @@
 use anyhow::{bail, Result};
 use nalgebra::{Rotation3, UnitQuaternion};
 use serde::Serialize;
+use virtual_physics::algebra::Vec3;
 use virtual_physics::dynamics::BodyKind;
-use virtual_physics::geometry::V3;
 use virtual_physics::pipeline::World;
 
 /// One body at one step: a line of `vphys run --bodies`. All vectors in the world frame.
@@ -79,12 +79,12 @@ pub fn select(world: &World, names: &[String]) -> Result<Vec<usize>> {
 }
 
 /// Every body's centre of mass now (m, world): the start that displacements refer to.
-pub fn positions(world: &World) -> Vec<V3> {
+pub fn positions(world: &World) -> Vec<Vec3> {
     world.bodies().map(|b| b.position()).collect()
 }
 
 /// The line of body `i` at `step`, `start` being [`positions`] at step 0.
-pub fn line<'w>(world: &'w World, step: u64, i: usize, start: &[V3]) -> BodyLine<'w> {
+pub fn line<'w>(world: &'w World, step: u64, i: usize, start: &[Vec3]) -> BodyLine<'w> {
     let b = world.bodies().nth(i).expect("a selected body");
     let q = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(b.rotation()));
     let q = if q.w < 0.0 {
@@ -119,7 +119,7 @@ pub struct Displacement {
 }
 
 /// [`Displacement`] of the dynamic bodies since `start`.
-pub fn displacement(world: &World, start: &[V3]) -> Displacement {
+pub fn displacement(world: &World, start: &[Vec3]) -> Displacement {
     let mut d = Displacement::default();
     for (b, p0) in world.bodies().zip(start) {
         if b.kind() == BodyKind::Dynamic {

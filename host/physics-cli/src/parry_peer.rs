@@ -14,8 +14,9 @@ pub fn run(json: bool) -> Result<()> {
     use std::hint::black_box;
     use std::time::Instant;
     use virtual_physics::algebra::exp_so3;
-    use virtual_physics::geometry::box_box::{box_box, BoxPose};
-    use virtual_physics::geometry::{Manifold, V3};
+    use virtual_physics::algebra::Vec3;
+    use virtual_physics::geometry::Manifold;
+    use virtual_physics::geometry::{box_box, BoxPose};
 
     // (name, rotation vector of A, B's centre, rotation vector of B); A at the origin.
     let q = std::f64::consts::FRAC_PI_4;
@@ -42,14 +43,14 @@ pub fn run(json: bool) -> Result<()> {
         ),
     ];
     let n = 200_000u32;
-    let half = V3::repeat(0.5);
+    let half = Vec3::repeat(0.5);
     let mut rows = Vec::new();
     for (name, a_aa, t, aa) in cases {
         // Ours.
-        let ra = exp_so3(&V3::new(a_aa[0], a_aa[1], a_aa[2]));
-        let rb = exp_so3(&V3::new(aa[0], aa[1], aa[2]));
-        let pa = V3::zeros();
-        let pb = V3::new(t[0], t[1], t[2]);
+        let ra = exp_so3(&Vec3::new(a_aa[0], a_aa[1], a_aa[2]));
+        let rb = exp_so3(&Vec3::new(aa[0], aa[1], aa[2]));
+        let pa = Vec3::zeros();
+        let pb = Vec3::new(t[0], t[1], t[2]);
         let mut m = Manifold::new(0, 1);
         let mut best_ours = f64::INFINITY;
         let mut ours_points = 0;
@@ -73,7 +74,7 @@ pub fn run(json: bool) -> Result<()> {
                 black_box(&m);
             }
             best_ours = best_ours.min(t0.elapsed().as_secs_f64() * 1e9 / n as f64);
-            ours_points = m.len;
+            ours_points = m.points().len();
         }
         // Parry, from scratch each call (manifold cleared, as on a new pair).
         let c = Cuboid::new(Vector::new(0.5, 0.5, 0.5));

@@ -119,7 +119,7 @@ pub fn run(
 }
 
 /// The world totals and counters of one step, as one JSON object.
-fn step_line(w: &World, k: u64, start: &[virtual_physics::geometry::V3]) -> serde_json::Value {
+fn step_line(w: &World, k: u64, start: &[virtual_physics::algebra::Vec3]) -> serde_json::Value {
     let p = w.linear_momentum();
     let l = w.angular_momentum();
     let d = bodies::displacement(w, start);

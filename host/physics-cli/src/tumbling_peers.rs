@@ -298,7 +298,7 @@ mod tests {
     #[test]
     fn a_peer_is_measured_against_the_reference_as_ours_is() {
         let reference = Trajectory {
-            omega: vec![virtual_physics::geometry::V3::new(0.0, 5.0, 0.05); 3],
+            omega: vec![virtual_physics::algebra::Vec3::new(0.0, 5.0, 0.05); 3],
             cpu_s: 0.0,
             energy_drift: 0.0,
             momentum_drift: 0.0,

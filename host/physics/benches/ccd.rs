@@ -5,7 +5,8 @@
 //!     cargo bench -p virtual-physics --bench ccd
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use virtual_physics::geometry::{sphere_cast, Shape, M3, V3};
+use virtual_physics::algebra::{Mat3, Vec3};
+use virtual_physics::geometry::{sphere_cast, Shape};
 
 #[path = "../tests/goal_mouth_scene/mod.rs"]
 mod goal_mouth_scene;
@@ -13,9 +14,9 @@ use goal_mouth_scene::*;
 
 fn casts(c: &mut Criterion) {
     let r = 0.0175;
-    let (rot, pos, still) = (M3::identity(), V3::zeros(), V3::zeros());
+    let (rot, pos, still) = (Mat3::identity(), Vec3::zeros(), Vec3::zeros());
     let cuboid = Shape::Cuboid {
-        half: V3::new(0.025, 0.15, 0.08),
+        half: Vec3::new(0.025, 0.15, 0.08),
     };
     let cylinder = Shape::Cylinder {
         radius: 0.008,
@@ -24,10 +25,10 @@ fn casts(c: &mut Criterion) {
     let mut g = c.benchmark_group("sphere_cast");
     // Onto a box's edge (the post), and past it 1 mm clear.
     let (c_edge, c_miss) = (
-        V3::new(-0.05, -0.15 - 0.5 * r, 0.0),
-        V3::new(-0.05, -0.15 - r - 1e-3, 0.0),
+        Vec3::new(-0.05, -0.15 - 0.5 * r, 0.0),
+        Vec3::new(-0.05, -0.15 - r - 1e-3, 0.0),
     );
-    let d = V3::new(0.015, 0.0, 0.0) * 3.0;
+    let d = Vec3::new(0.015, 0.0, 0.0) * 3.0;
     g.bench_function("box edge hit", |b| {
         b.iter(|| sphere_cast(black_box(&c_edge), &d, r, &cuboid, &rot, &pos, &still))
     });
@@ -35,10 +36,11 @@ fn casts(c: &mut Criterion) {
         b.iter(|| sphere_cast(black_box(&c_miss), &d, r, &cuboid, &rot, &pos, &still))
     });
     // Across a rod (the cylinder's side), and past it.
-    let c_rod = V3::new(-0.04, 0.0, 0.0);
-    let c_past = V3::new(-0.04, 0.0, 0.0) + V3::new(0.0, 0.03, 0.0);
-    let dz = V3::new(0.06, 0.0, 0.0);
-    let lying = virtual_physics::algebra::exp_so3(&V3::new(std::f64::consts::FRAC_PI_2, 0.0, 0.0));
+    let c_rod = Vec3::new(-0.04, 0.0, 0.0);
+    let c_past = Vec3::new(-0.04, 0.0, 0.0) + Vec3::new(0.0, 0.03, 0.0);
+    let dz = Vec3::new(0.06, 0.0, 0.0);
+    let lying =
+        virtual_physics::algebra::exp_so3(&Vec3::new(std::f64::consts::FRAC_PI_2, 0.0, 0.0));
     g.bench_function("cylinder side hit", |b| {
         b.iter(|| sphere_cast(black_box(&c_rod), &dz, r, &cylinder, &lying, &pos, &still))
     });
@@ -49,8 +51,8 @@ fn casts(c: &mut Criterion) {
 }
 
 fn steps(c: &mut Criterion) {
-    let p0 = V3::new(HL - 0.03, GW - R - 1e-3, 0.5 * GH);
-    let v0 = V3::new(15.0, 0.0, 0.0);
+    let p0 = Vec3::new(HL - 0.03, GW - R - 1e-3, 0.5 * GH);
+    let v0 = Vec3::new(15.0, 0.0, 0.0);
     let mut g = c.benchmark_group("goal_mouth_step");
     for (name, effects) in [
         (

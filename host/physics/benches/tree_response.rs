@@ -15,7 +15,7 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use std::time::Duration;
 use virtual_physics::dynamics::{aba, cholesky_solve, mass_matrix, Workspace};
 use virtual_physics::model::builders::{chain, random_state};
-use virtual_physics::pipeline::articulated::ArticulatedSystem;
+use virtual_physics::pipeline::ArticulatedSystem;
 use virtual_physics::pipeline::IntegratorKind;
 
 fn bench_step(c: &mut Criterion) {

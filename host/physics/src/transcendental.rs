@@ -41,19 +41,19 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 
 /// Four-quadrant arctangent of `y / x`, rad in `[−π, π]`.
 #[inline]
-pub fn atan2(y: f64, x: f64) -> f64 {
+pub(crate) fn atan2(y: f64, x: f64) -> f64 {
     pick!(libm::atan2(y, x), y.atan2(x))
 }
 
 /// Natural logarithm of `x`.
 #[inline]
-pub fn ln(x: f64) -> f64 {
+pub(crate) fn ln(x: f64) -> f64 {
     pick!(libm::log(x), x.ln())
 }
 
 /// `x` to the power `y`.
 #[inline]
-pub fn powf(x: f64, y: f64) -> f64 {
+pub(crate) fn powf(x: f64, y: f64) -> f64 {
     pick!(libm::pow(x, y), x.powf(y))
 }
 

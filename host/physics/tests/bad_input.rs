@@ -275,8 +275,9 @@ fn huge_values_in_a_scene_built_in_code() {
 
 mod api {
     use super::scene_order::*;
+    use virtual_physics::algebra::Vec3;
     use virtual_physics::dynamics::DynamicsError;
-    use virtual_physics::geometry::{Shape, V3};
+    use virtual_physics::geometry::Shape;
     use virtual_physics::pipeline::{BodyBuilder, Effect, World};
 
     /// A ground and a resting unit cube, stepped once (so the first bodies are checked).
@@ -295,14 +296,14 @@ mod api {
             BodyBuilder::dynamic(shape)
                 .name("probe")
                 .mass(mass)
-                .position(V3::new(3.0, 0.0, 1.0)),
+                .position(Vec3::new(3.0, 0.0, 1.0)),
         );
         w.body_count() - 1
     }
 
     fn cube() -> Shape {
         Shape::Cuboid {
-            half: V3::repeat(0.5),
+            half: Vec3::repeat(0.5),
         }
     }
 
@@ -376,7 +377,7 @@ mod api {
         let i = push(
             &mut w,
             Shape::Cuboid {
-                half: V3::new(0.5, f64::NAN, 0.5),
+                half: Vec3::new(0.5, f64::NAN, 0.5),
             },
             1.0,
         );
@@ -404,7 +405,7 @@ mod api {
         }
         for g in [f64::NAN, f64::NEG_INFINITY, -1e300] {
             let mut w = world();
-            w.set_gravity(V3::new(0.0, 0.0, g));
+            w.set_gravity(Vec3::new(0.0, 0.0, g));
             let e = w.step().unwrap_err();
             assert!(
                 matches!(&e, DynamicsError::InvalidParameter { what, .. } if what == "gravity[2]"),
@@ -416,18 +417,18 @@ mod api {
     #[test]
     fn huge_or_non_finite_pose_and_velocity_are_refused() {
         let mut w = world();
-        body_at_mut(&mut w, 1).set_angular_velocity(V3::new(0.0, 1e300, 0.0));
+        body_at_mut(&mut w, 1).set_angular_velocity(Vec3::new(0.0, 1e300, 0.0));
         refused(&mut w, 1, "angular velocity");
         let mut w = world();
-        body_at_mut(&mut w, 1).set_linear_velocity(V3::new(f64::NAN, 0.0, 0.0));
+        body_at_mut(&mut w, 1).set_linear_velocity(Vec3::new(f64::NAN, 0.0, 0.0));
         refused(&mut w, 1, "velocity");
         let mut w = world();
         let p = body_at(&w, 1).position();
-        body_at_mut(&mut w, 1).set_position(V3::new(p.x, p.y, 1e300));
+        body_at_mut(&mut w, 1).set_position(Vec3::new(p.x, p.y, 1e300));
         refused(&mut w, 1, "position");
         // The fixed ground too.
         let mut w = world();
-        body_at_mut(&mut w, 0).set_linear_velocity(V3::new(0.0, 0.0, f64::NAN));
+        body_at_mut(&mut w, 0).set_linear_velocity(Vec3::new(0.0, 0.0, f64::NAN));
         refused(&mut w, 0, "velocity");
     }
 
@@ -458,11 +459,11 @@ mod api {
         assert_eq!(state(&w)[1..], before[1..], "only the clock moves");
         // The fixed ground cannot wake: its state is checked all the same.
         let p = body_at(&w, 0).position();
-        body_at_mut(&mut w, 0).set_position(V3::new(p.x, p.y, 1e300));
+        body_at_mut(&mut w, 0).set_position(Vec3::new(p.x, p.y, 1e300));
         refused(&mut w, 0, "position");
         // A sleeping body set to NaN wakes, and the full check names it.
         let mut w = asleep();
-        body_at_mut(&mut w, 1).set_linear_velocity(V3::new(f64::NAN, 0.0, 0.0));
+        body_at_mut(&mut w, 1).set_linear_velocity(Vec3::new(f64::NAN, 0.0, 0.0));
         refused(&mut w, 1, "velocity");
     }
 
@@ -474,7 +475,7 @@ mod api {
         }
         // An infinite applied force is not a state the guard inspects before the step: the
         // step makes the cube's velocity non-finite.
-        body_at_mut(&mut w, 1).set_force(V3::new(0.0, 0.0, f64::INFINITY));
+        body_at_mut(&mut w, 1).set_force(Vec3::new(0.0, 0.0, f64::INFINITY));
         let before = state(&w);
         let e = w.step().unwrap_err();
         // The cube, not the ground its NaN impulse also reached.
@@ -487,7 +488,7 @@ mod api {
         }
         assert_eq!(state(&w), before, "the world is as it was before the step");
         // With the force removed the world steps on, and stays at rest on the ground.
-        body_at_mut(&mut w, 1).set_force(V3::zeros());
+        body_at_mut(&mut w, 1).set_force(Vec3::zeros());
         for _ in 0..60 {
             w.step().unwrap();
         }
@@ -503,9 +504,9 @@ mod api {
         // A 1.6e19 m half-extent once wrapped the broad phase's cell count and its loop
         // over cells allocated until the process aborted; 1e30 made the world NaN.
         for half in [
-            V3::new(1.6e19, 0.5, 0.5),
-            V3::new(1.6e19, 1.6e19, 0.5),
-            V3::repeat(1e30),
+            Vec3::new(1.6e19, 0.5, 0.5),
+            Vec3::new(1.6e19, 1.6e19, 0.5),
+            Vec3::repeat(1e30),
         ] {
             let mut w = world();
             let i = push(&mut w, Shape::Cuboid { half }, 1.0);

@@ -181,11 +181,11 @@ fn a_fast_ball_in_a_small_closed_box_never_leaves_it() {
 #[test]
 fn a_paddle_kicking_from_rest_strikes_the_ball_beside_it() {
     use virtual_physics::algebra::{Inertia, Sym3, Vec3, SE3};
-    use virtual_physics::geometry::{Material, Shape, V3};
+    use virtual_physics::geometry::{Material, Shape};
     use virtual_physics::model::{ArticulatedTree, Revolute};
-    use virtual_physics::pipeline::articulated::ArticulatedSystem;
+    use virtual_physics::pipeline::ArticulatedSystem;
     use virtual_physics::pipeline::{BodyBuilder, Effects, Motor, SolverSettings, World};
-    let (arm, half) = (0.06, V3::new(0.01, 0.02, 0.04));
+    let (arm, half) = (0.06, Vec3::new(0.01, 0.02, 0.04));
     let mut tree = ArticulatedTree::new(Vec3::new(0.0, 0.0, -9.81));
     let pivot = Vec3::new(0.0, 0.0, 0.1);
     tree.add_body(
@@ -224,7 +224,7 @@ fn a_paddle_kicking_from_rest_strikes_the_ball_beside_it() {
     ]);
     let mut w = World::builder(effects)
         .dt(1e-3)
-        .gravity(V3::new(0.0, 0.0, -9.81))
+        .gravity(Vec3::new(0.0, 0.0, -9.81))
         .settings(SolverSettings {
             substeps: 4,
             speculative_distance: 0.003,
@@ -233,14 +233,14 @@ fn a_paddle_kicking_from_rest_strikes_the_ball_beside_it() {
         .build();
     // The ball's centre level with the foot's centre, 1.5 mm off its +x face; no ground
     // (the ball is in free flight over the step and a few after).
-    let centre = V3::new(half.x + 0.001 + R, -0.03, pivot.z - arm);
+    let centre = Vec3::new(half.x + 0.001 + R, -0.03, pivot.z - arm);
     let b = w.insert_body(
         BodyBuilder::dynamic(Shape::Sphere { radius: R })
             .mass(0.025)
             .position(centre)
-            .velocity(V3::new(0.0, 0.6, 0.0)),
+            .velocity(Vec3::new(0.0, 0.6, 0.0)),
     );
-    w.set_gravity(V3::zeros());
+    w.set_gravity(Vec3::zeros());
     let t = w.insert_tree(sys);
     let mut deepest: f64 = 0.0;
     for _ in 0..20 {
@@ -250,7 +250,7 @@ fn a_paddle_kicking_from_rest_strikes_the_ball_beside_it() {
         let c = foot
             .inverse()
             .transform_point(&w.body(b).unwrap().position());
-        let outside = V3::new(
+        let outside = Vec3::new(
             (c.x.abs() - half.x).max(0.0),
             (c.y.abs() - half.y).max(0.0),
             (c.z.abs() - half.z).max(0.0),

@@ -2,8 +2,9 @@
 //! properties from the parts; resting and colliding as one rigid body.
 
 use std::f64::consts::PI;
+use virtual_physics::algebra::Vec3;
 use virtual_physics::algebra::{exp_so3, SE3};
-use virtual_physics::geometry::{Compound, Material, PartDesc, Shape, V3};
+use virtual_physics::geometry::{Compound, Material, PartDesc, Shape};
 use virtual_physics::scene::{BodyDesc, BodyKindDesc, PartShapeDesc, SceneFile, ShapeDesc};
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -55,8 +56,8 @@ fn disk_on_stem_mass_properties_match_a_hand_computation() {
     );
     assert!(rel(i.z, izz) < tol, "Izz {} vs {izz}", i.z);
     // The body frame sits at the centre of mass, on the (tilted) stem axis.
-    let tilt = exp_so3(&V3::new(0.2, 0.0, 0.0));
-    assert!((b.position() - tilt * V3::new(0.0, 0.0, zc)).norm() < 1e-15);
+    let tilt = exp_so3(&Vec3::new(0.2, 0.0, 0.0));
+    assert!((b.position() - tilt * Vec3::new(0.0, 0.0, zc)).norm() < 1e-15);
     assert!((b.rotation() - tilt).norm() < 1e-15);
 }
 
@@ -66,7 +67,7 @@ fn disk_on_stem_mass_properties_match_a_hand_computation() {
 fn mass_properties_do_not_depend_on_the_reference_frame() {
     let parts = |t: SE3<f64>| {
         let bar = Shape::Cuboid {
-            half: V3::new(0.3, 0.02, 0.05),
+            half: Vec3::new(0.3, 0.02, 0.05),
         };
         let ball = Shape::Sphere { radius: 0.08 };
         let mut p = vec![
@@ -78,7 +79,10 @@ fn mass_properties_do_not_depend_on_the_reference_frame() {
             },
             PartDesc {
                 shape: ball,
-                pose: SE3::new(exp_so3(&V3::new(0.1, 0.4, -0.2)), V3::new(0.3, 0.1, 0.0)),
+                pose: SE3::new(
+                    exp_so3(&Vec3::new(0.1, 0.4, -0.2)),
+                    Vec3::new(0.3, 0.1, 0.0),
+                ),
                 mass: 0.7,
                 material: Material::default(),
             },
@@ -89,7 +93,10 @@ fn mass_properties_do_not_depend_on_the_reference_frame() {
         p
     };
     let (_, a) = Compound::new(&parts(SE3::identity())).expect("valid");
-    let t = SE3::new(exp_so3(&V3::new(-0.7, 0.2, 1.1)), V3::new(1.0, -2.0, 0.5));
+    let t = SE3::new(
+        exp_so3(&Vec3::new(-0.7, 0.2, 1.1)),
+        Vec3::new(1.0, -2.0, 0.5),
+    );
     let (_, b) = Compound::new(&parts(t)).expect("valid");
     let mut ma: Vec<f64> = a.principal_inertia.iter().copied().collect();
     let mut mb: Vec<f64> = b.principal_inertia.iter().copied().collect();
@@ -184,7 +191,7 @@ fn a_four_legged_table_stands_on_its_legs_and_carries_a_box() {
         t.position().z
     );
     // Level, and at rest.
-    assert!(t.rotation().column(2).dot(&V3::z()) > 1.0 - 1e-6);
+    assert!(t.rotation().column(2).dot(&Vec3::z()) > 1.0 - 1e-6);
     assert!(t.linear_velocity().norm() < 1e-2 && c.linear_velocity().norm() < 1e-2);
     // The box rests on the top (top face at 0.34 m), not in it.
     assert!(
@@ -249,7 +256,7 @@ fn each_part_collides_with_its_own_material() {
     assert!(touched, "the dumbbell reached the ground");
     let b = w.body(d).unwrap();
     // Velocity of each ball's centre: v + ω × r.
-    let end = |x: f64| b.point_velocity(&(b.position() + b.rotation() * V3::new(x, 0.0, 0.0)));
+    let end = |x: f64| b.point_velocity(&(b.position() + b.rotation() * Vec3::new(x, 0.0, 0.0)));
     let (bouncy, dead) = (end(-0.3), end(0.3));
     assert!(bouncy.z > 0.5, "the bouncy end rebounds: {bouncy:?}");
     assert!(

@@ -2,9 +2,8 @@
 //! kinematics.
 
 use virtual_physics::algebra::{Inertia, Sym3, Vec3, SE3};
-use virtual_physics::geometry::V3;
 use virtual_physics::model::{ArticulatedTree, Prismatic};
-use virtual_physics::pipeline::articulated::ArticulatedSystem;
+use virtual_physics::pipeline::ArticulatedSystem;
 use virtual_physics::pipeline::{Effect, Effects, Motor, World};
 
 mod hinged_arm;
@@ -16,7 +15,7 @@ const G: f64 = 9.81;
 fn world(dt: f64) -> World {
     World::builder(Effects::of(&[Effect::Gravity, Effect::Articulated]))
         .dt(dt)
-        .gravity(V3::new(0.0, 0.0, -G))
+        .gravity(Vec3::new(0.0, 0.0, -G))
         .build()
 }
 

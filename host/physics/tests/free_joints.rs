@@ -2,7 +2,8 @@
 //! armature on their coordinates, checked against statics, kinematics and the pendulum.
 
 use std::f64::consts::{PI, TAU};
-use virtual_physics::geometry::{Shape, M3, V3};
+use virtual_physics::algebra::{Mat3, Vec3};
+use virtual_physics::geometry::Shape;
 use virtual_physics::model::{Ball, Cylindrical, Fixed, Prismatic, Revolute, Universal};
 use virtual_physics::pipeline::{
     BodyBuilder, BodyHandle, Effect, Effects, JointBuilder, JointError, Motor, SolverSettings,
@@ -18,7 +19,7 @@ fn world(dt: f64, gravity: bool) -> World {
     }
     World::builder(Effects::of(&effects))
         .dt(dt)
-        .gravity(V3::new(0.0, 0.0, -G))
+        .gravity(Vec3::new(0.0, 0.0, -G))
         .build()
 }
 
@@ -28,7 +29,7 @@ fn ground(w: &mut World) -> BodyHandle {
 }
 
 /// A sphere of `mass` kg and radius 2 cm centred at `p`.
-fn ball(w: &mut World, mass: f64, p: V3) -> BodyHandle {
+fn ball(w: &mut World, mass: f64, p: Vec3) -> BodyHandle {
     w.insert_body(
         BodyBuilder::dynamic(Shape::Sphere { radius: 0.02 })
             .mass(mass)
@@ -41,11 +42,11 @@ fn ball(w: &mut World, mass: f64, p: V3) -> BodyHandle {
 fn arm_with_motor(max_force: f64) -> (World, BodyHandle, virtual_physics::pipeline::JointHandle) {
     let mut w = world(1e-3, true);
     let g = ground(&mut w);
-    let b = ball(&mut w, 1.0, V3::new(0.4, 0.0, 0.0));
+    let b = ball(&mut w, 1.0, Vec3::new(0.4, 0.0, 0.0));
     let j = w
         .insert_joint(
-            JointBuilder::new(&Revolute::new(V3::y()), g, b)
-                .anchor(V3::zeros())
+            JointBuilder::new(&Revolute::new(Vec3::y()), g, b)
+                .anchor(Vec3::zeros())
                 .motor(
                     0,
                     Motor {
@@ -108,11 +109,11 @@ fn a_torque_limited_position_motor_slips_above_its_limit() {
 fn slider_onto_its_limit(dt: f64) {
     let mut w = world(dt, true);
     let g = ground(&mut w);
-    let b = ball(&mut w, 1.0, V3::zeros());
+    let b = ball(&mut w, 1.0, Vec3::zeros());
     let j = w
         .insert_joint(
-            JointBuilder::new(&Prismatic::new(V3::z()), g, b)
-                .anchor(V3::zeros())
+            JointBuilder::new(&Prismatic::new(Vec3::z()), g, b)
+                .anchor(Vec3::zeros())
                 .limits(0, -0.5, 0.5),
         )
         .unwrap();
@@ -153,15 +154,15 @@ fn a_revolute_spun_a_thousand_turns_stays_aligned() {
     let mut w = world(1e-3, false);
     let a = w.insert_body(
         BodyBuilder::kinematic(Shape::Cuboid {
-            half: V3::new(0.1, 0.1, 0.1),
+            half: Vec3::new(0.1, 0.1, 0.1),
         })
-        .angular_velocity(V3::new(1.0, 0.0, 0.0)),
+        .angular_velocity(Vec3::new(1.0, 0.0, 0.0)),
     );
-    let axis = V3::new(0.0, 0.3, 1.0).normalize();
+    let axis = Vec3::new(0.0, 0.3, 1.0).normalize();
     // B is a disk on the hinge (its symmetry axis, z, turned onto the hinge), so its world
     // inertia does not change as it turns.
     let r = virtual_physics::algebra::exp_so3(
-        &(V3::z().cross(&axis).normalize() * V3::z().angle(&axis)),
+        &(Vec3::z().cross(&axis).normalize() * Vec3::z().angle(&axis)),
     );
     let b = w.insert_body(
         BodyBuilder::dynamic(Shape::Cylinder {
@@ -169,14 +170,14 @@ fn a_revolute_spun_a_thousand_turns_stays_aligned() {
             half_height: 0.01,
         })
         .mass(0.5)
-        .position(V3::new(0.0, 0.0, 0.3))
+        .position(Vec3::new(0.0, 0.0, 0.3))
         .rotation(r),
     );
     let rate = 100.0 * TAU;
     let j = w
         .insert_joint(
             JointBuilder::new(&Revolute::new(axis), a, b)
-                .anchor(V3::new(0.0, 0.0, 0.3))
+                .anchor(Vec3::new(0.0, 0.0, 0.3))
                 .motor(
                     0,
                     Motor {
@@ -222,18 +223,18 @@ fn a_cylindrical_joint_slides_and_spins_freely() {
     let a = ground(&mut w);
     let b = w.insert_body(
         BodyBuilder::dynamic(Shape::Cuboid {
-            half: V3::new(0.04, 0.04, 0.04),
+            half: Vec3::new(0.04, 0.04, 0.04),
         })
         .mass(1.0)
-        .position(V3::new(0.03, 0.0, 0.3))
-        .velocity(V3::new(0.0, 0.6, 0.2))
-        .angular_velocity(V3::new(0.0, 0.0, 20.0)),
+        .position(Vec3::new(0.03, 0.0, 0.3))
+        .velocity(Vec3::new(0.0, 0.6, 0.2))
+        .angular_velocity(Vec3::new(0.0, 0.0, 20.0)),
     );
     // B's initial velocity is the spin about the axis at its centre (ω × r = 20 ẑ × 0.03 x̂)
     // plus 0.2 m/s along it.
     let j = w
         .insert_joint(
-            JointBuilder::new(&Cylindrical::new(V3::z()), a, b).anchor(V3::new(0.0, 0.0, 0.3)),
+            JointBuilder::new(&Cylindrical::new(Vec3::z()), a, b).anchor(Vec3::new(0.0, 0.0, 0.3)),
         )
         .unwrap();
     let e0 = w.energy();
@@ -281,19 +282,19 @@ fn pendulum_period(armature: f64) -> f64 {
     let mut w = world(dt, true);
     let g = ground(&mut w);
     let (l, th) = (0.5, 0.05f64);
-    let b = ball(&mut w, 1.0, V3::new(0.0, 0.0, -l));
+    let b = ball(&mut w, 1.0, Vec3::new(0.0, 0.0, -l));
     let j = w
         .insert_joint(
-            JointBuilder::new(&Revolute::new(V3::y()), g, b)
-                .anchor(V3::zeros())
+            JointBuilder::new(&Revolute::new(Vec3::y()), g, b)
+                .anchor(Vec3::zeros())
                 .armature(0, armature),
         )
         .unwrap();
     // Swing it out by θ about the hinge (rotation about y) and let go.
-    let r = virtual_physics::algebra::exp_so3(&V3::new(0.0, th, 0.0));
+    let r = virtual_physics::algebra::exp_so3(&Vec3::new(0.0, th, 0.0));
     w.body_mut(b)
         .unwrap()
-        .set_position(r * V3::new(0.0, 0.0, -l))
+        .set_position(r * Vec3::new(0.0, 0.0, -l))
         .set_rotation(r);
     let mut crossings = Vec::new();
     let mut prev = w.joint(j).unwrap().position(0).unwrap();
@@ -337,9 +338,9 @@ fn swinging_chain_gap(heavy: f64, dt: f64) -> f64 {
         let b = w.insert_body(
             BodyBuilder::dynamic(Shape::Sphere { radius: 0.03 })
                 .mass(mass)
-                .position(V3::new(0.1 * (k as f64 + 1.0), 0.0, 0.0)),
+                .position(Vec3::new(0.1 * (k as f64 + 1.0), 0.0, 0.0)),
         );
-        let anchor = V3::new(0.1 * k as f64, 0.0, 0.0);
+        let anchor = Vec3::new(0.1 * k as f64, 0.0, 0.0);
         joints.push(
             w.insert_joint(JointBuilder::new(&Ball, prev, b).anchor(anchor))
                 .unwrap(),
@@ -387,13 +388,13 @@ fn a_universal_joint_keeps_its_cross_and_turns_both_ways() {
     let mut w = world(1e-3, false);
     let a = w.insert_body(
         BodyBuilder::kinematic(Shape::Sphere { radius: 0.02 })
-            .angular_velocity(V3::new(0.0, 0.0, 5.0)),
+            .angular_velocity(Vec3::new(0.0, 0.0, 5.0)),
     );
-    let b = ball(&mut w, 1.0, V3::new(0.0, 0.0, -0.2));
+    let b = ball(&mut w, 1.0, Vec3::new(0.0, 0.0, -0.2));
     let j = w
         .insert_joint(
-            JointBuilder::new(&Universal::new(V3::x(), V3::y()), a, b)
-                .anchor(V3::zeros())
+            JointBuilder::new(&Universal::new(Vec3::x(), Vec3::y()), a, b)
+                .anchor(Vec3::zeros())
                 .limits(0, -0.2, 0.2)
                 .limits(1, -0.2, 0.2),
         )
@@ -411,15 +412,15 @@ fn a_universal_joint_keeps_its_cross_and_turns_both_ways() {
 fn a_fixed_joint_welds_and_removing_it_frees_the_body() {
     let mut w = world(1e-3, true);
     let g = ground(&mut w);
-    let b = ball(&mut w, 1.0, V3::new(0.2, 0.0, 0.0));
+    let b = ball(&mut w, 1.0, Vec3::new(0.2, 0.0, 0.0));
     let j = w
-        .insert_joint(JointBuilder::new(&Fixed, g, b).anchor(V3::zeros()))
+        .insert_joint(JointBuilder::new(&Fixed, g, b).anchor(Vec3::zeros()))
         .unwrap();
     for _ in 0..500 {
         w.step().unwrap();
     }
     let p = w.body(b).unwrap().position();
-    assert!((p - V3::new(0.2, 0.0, 0.0)).norm() < 1e-3, "{p:?}");
+    assert!((p - Vec3::new(0.2, 0.0, 0.0)).norm() < 1e-3, "{p:?}");
     assert!(w.remove_joint(j));
     assert!(!w.remove_joint(j), "a removed joint's handle is stale");
     assert!(w.joint(j).is_none());
@@ -433,19 +434,19 @@ fn a_fixed_joint_welds_and_removing_it_frees_the_body() {
 fn bad_joints_are_errors_that_name_the_problem() {
     let mut w = world(1e-3, true);
     let g = ground(&mut w);
-    let b = ball(&mut w, 1.0, V3::zeros());
-    let c = ball(&mut w, 1.0, V3::x());
-    let rev = Revolute::new(V3::y());
+    let b = ball(&mut w, 1.0, Vec3::zeros());
+    let c = ball(&mut w, 1.0, Vec3::x());
+    let rev = Revolute::new(Vec3::y());
     assert_eq!(
         w.insert_joint(JointBuilder::new(&rev, b, b)),
         Err(JointError::SameBody)
     );
     assert!(matches!(
-        w.insert_joint(JointBuilder::new(&Revolute::new(V3::zeros()), g, b)),
+        w.insert_joint(JointBuilder::new(&Revolute::new(Vec3::zeros()), g, b)),
         Err(JointError::Kind(_))
     ));
     assert_eq!(
-        w.insert_joint(JointBuilder::new(&rev, g, b).axes(M3::identity() * 2.0)),
+        w.insert_joint(JointBuilder::new(&rev, g, b).axes(Mat3::identity() * 2.0)),
         Err(JointError::InvalidAxes)
     );
     assert!(matches!(
@@ -495,9 +496,9 @@ fn a_motor_target_set_each_step_is_followed() {
     // A velocity servo on a hinge, its target changed from Rust every step.
     let mut w = world(1e-3, false);
     let g = ground(&mut w);
-    let b = ball(&mut w, 1.0, V3::new(0.1, 0.0, 0.0));
+    let b = ball(&mut w, 1.0, Vec3::new(0.1, 0.0, 0.0));
     let j = w
-        .insert_joint(JointBuilder::new(&Revolute::new(V3::z()), g, b).motor(
+        .insert_joint(JointBuilder::new(&Revolute::new(Vec3::z()), g, b).motor(
             0,
             Motor {
                 target_position: None,

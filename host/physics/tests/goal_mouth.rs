@@ -6,21 +6,21 @@
 mod goal_mouth_scene;
 
 use goal_mouth_scene::*;
-use virtual_physics::geometry::V3;
+use virtual_physics::algebra::Vec3;
 use virtual_physics::pipeline::SolverSettings;
 use virtual_physics::scene::SceneFile;
 
 /// Distance (m) from `x` to the box `[min, max]` (0 inside).
-fn box_distance(x: &V3, w: &Wall) -> f64 {
+fn box_distance(x: &Vec3, w: &Wall) -> f64 {
     let c = (w.min + w.max) * 0.5;
     let h = (w.max - w.min) * 0.5;
-    ((x - c).abs() - h).sup(&V3::zeros()).norm()
+    ((x - c).abs() - h).sup(&Vec3::zeros()).norm()
 }
 
 /// Closest approach (m) of the ball's centre on the segment `p + s d`, `s ∈ [0, 1]`, to the
 /// field and every wall: the distance to a convex set is convex along a line, so a golden
 /// section search finds its minimum (to 1e-13 of the segment).
-fn closest_approach(p: &V3, d: &V3) -> (f64, &'static str) {
+fn closest_approach(p: &Vec3, d: &Vec3) -> (f64, &'static str) {
     let mut best = (p.z.min(p.z + d.z), "field");
     for w in walls() {
         let f = |s: f64| box_distance(&(p + d * s), &w);
@@ -46,8 +46,8 @@ fn closest_approach(p: &V3, d: &V3) -> (f64, &'static str) {
 fn a_ball_at_15_m_s_one_millimetre_beside_the_post_goes_in_at_full_speed() {
     for side in [1.0, -1.0] {
         let y = side * (GW - R - 1e-3);
-        let v0 = V3::new(15.0, 0.0, 0.0);
-        let mut w = scene(V3::new(HL - 0.1, y, 0.5 * GH), v0, true);
+        let v0 = Vec3::new(15.0, 0.0, 0.0);
+        let mut w = scene(Vec3::new(HL - 0.1, y, 0.5 * GH), v0, true);
         // Until the ball is wholly behind the goal line, short of the goal's back wall.
         while ball(&w).0.x < HL + R + 0.01 {
             w.step().unwrap();
@@ -68,8 +68,8 @@ fn a_ball_aimed_at_the_post_bounces_off_it() {
     // Into the face beside the mouth, 5 mm from the post's edge: straight back with the
     // pair's restitution 0.8 (no friction, so the tangential velocity stays zero).
     let mut w = scene(
-        V3::new(HL - 0.1, GW + 0.005, 0.5 * GH),
-        V3::x() * 15.0,
+        Vec3::new(HL - 0.1, GW + 0.005, 0.5 * GH),
+        Vec3::x() * 15.0,
         false,
     );
     let mut deepest: f64 = 0.0;
@@ -85,13 +85,13 @@ fn a_ball_aimed_at_the_post_bounces_off_it() {
     // Onto the post's edge itself, the centre R/2 inside the mouth: the impact normal
     // leans 30° off the goal line, n = (−cos 30°, −sin 30°, 0), and the ball leaves along
     // v − (1 + e)(v·n) n.
-    let v0 = V3::x() * 15.0;
-    let mut w = scene(V3::new(HL - 0.1, GW - 0.5 * R, 0.5 * GH), v0, false);
+    let v0 = Vec3::x() * 15.0;
+    let mut w = scene(Vec3::new(HL - 0.1, GW - 0.5 * R, 0.5 * GH), v0, false);
     while w.time() < 0.02 {
         w.step().unwrap();
     }
     let (p, v) = ball(&w);
-    let n = V3::new(-(0.75f64).sqrt(), -0.5, 0.0);
+    let n = Vec3::new(-(0.75f64).sqrt(), -0.5, 0.0);
     let expect = v0 - n * (1.8 * v0.dot(&n));
     assert!(
         (v - expect).norm() < 0.01 * v0.norm(),
@@ -125,7 +125,7 @@ fn a_thousand_random_shots_are_stopped_only_by_what_they_touch() {
     for shot in 0..1000 {
         // From 6–16 cm in front of the goal line, across the mouth and the posts, at
         // 2–15 m/s, up to ±0.35 rad across and a little up or down.
-        let p0 = V3::new(
+        let p0 = Vec3::new(
             HL - rng.range(0.06, 0.16),
             rng.range(-GW - 0.03, GW + 0.03),
             rng.range(R + 0.005, GH - R - 0.005),
@@ -135,7 +135,7 @@ fn a_thousand_random_shots_are_stopped_only_by_what_they_touch() {
             rng.range(-0.35, 0.35),
             rng.range(-0.05, 0.05),
         );
-        let v0 = V3::new(
+        let v0 = Vec3::new(
             yaw.cos() * pitch.cos(),
             yaw.sin() * pitch.cos(),
             pitch.sin(),

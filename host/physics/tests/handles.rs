@@ -2,11 +2,12 @@
 //! bodies, a removed body's handle goes stale, its joints leave with it, and a world built
 //! with the builders steps as one described in a scene.
 
+use virtual_physics::algebra::Mat3;
 use virtual_physics::algebra::{Inertia, Sym3, Vec3, SE3};
 use virtual_physics::dynamics::BodyKind;
-use virtual_physics::geometry::{Material, Shape, M3, V3};
+use virtual_physics::geometry::{Material, Shape};
 use virtual_physics::model::{ArticulatedTree, Revolute};
-use virtual_physics::pipeline::articulated::ArticulatedSystem;
+use virtual_physics::pipeline::ArticulatedSystem;
 use virtual_physics::pipeline::{BodyBuilder, Effect, Effects, World};
 
 const G: f64 = 9.81;
@@ -17,10 +18,10 @@ fn effects() -> Effects {
 
 fn cube(x: f64, z: f64) -> BodyBuilder {
     BodyBuilder::dynamic(Shape::Cuboid {
-        half: V3::new(0.1, 0.1, 0.1),
+        half: Vec3::new(0.1, 0.1, 0.1),
     })
     .mass(1.0)
-    .position(V3::new(x, 0.0, z))
+    .position(Vec3::new(x, 0.0, z))
 }
 
 /// Three boxes resting on the ground; removing the first moves the last into its storage
@@ -31,7 +32,7 @@ fn cube(x: f64, z: f64) -> BodyBuilder {
 fn handles_survive_removal_of_other_bodies() {
     let mut w = World::builder(effects()).build();
     let ground = w.insert_body(
-        BodyBuilder::fixed(Shape::HalfSpace { normal: V3::z() })
+        BodyBuilder::fixed(Shape::HalfSpace { normal: Vec3::z() })
             .name("ground")
             .material(Material::default()),
     );
@@ -69,11 +70,11 @@ fn set_velocity_through_a_handle() {
     let ball = w.insert_body(
         BodyBuilder::dynamic(Shape::Sphere { radius: 0.02 })
             .mass(0.03)
-            .position(V3::zeros()),
+            .position(Vec3::zeros()),
     );
     w.body_mut(ball)
         .unwrap()
-        .set_linear_velocity(V3::new(0.0, 0.0, 2.0));
+        .set_linear_velocity(Vec3::new(0.0, 0.0, 2.0));
     let mut top: f64 = 0.0;
     for _ in 0..400 {
         w.step().unwrap();
@@ -102,7 +103,7 @@ fn a_link_and_its_proxy_body_name_each_other() {
     tree.add_body(
         "arm",
         None,
-        SE3::new(M3::identity(), Vec3::new(0.0, 0.0, 1.0)),
+        SE3::new(Mat3::identity(), Vec3::new(0.0, 0.0, 1.0)),
         Revolute::new(Vec3::y()),
         inertia,
     )

@@ -15,7 +15,6 @@
 use nalgebra::Matrix3;
 use virtual_physics::algebra::{exp_so3, log_so3, se3, Vec3, SE3};
 use virtual_physics::dynamics::{aba, BodyKind, Workspace};
-use virtual_physics::geometry::V3;
 use virtual_physics::measure::accuracy::articulated::chain_model;
 use virtual_physics::measure::accuracy::free_body;
 use virtual_physics::pipeline::{BodyHandle, Effect, IntegratorKind, World};
@@ -31,7 +30,7 @@ use run_length::{full, length};
 use scene_order::*;
 
 /// (largest horizontal move, largest sink) of the dynamic bodies from `start` (m).
-fn displacement(w: &World, start: &[V3]) -> (f64, f64) {
+fn displacement(w: &World, start: &[Vec3]) -> (f64, f64) {
     let (mut h, mut s): (f64, f64) = (0.0, 0.0);
     for (i, p0) in start.iter().enumerate() {
         if body_at(w, i).kind() == BodyKind::Dynamic {
@@ -240,8 +239,8 @@ fn case07_box_wedged_between_pressed_boxes() {
         s.bodies.push(unit_cube([x, 0.0, 0.5]));
     }
     let mut w = s.build().unwrap();
-    body_at_mut(&mut w, 1).set_force(V3::new(1000.0, 0.0, 0.0));
-    body_at_mut(&mut w, 3).set_force(V3::new(-1000.0, 0.0, 0.0));
+    body_at_mut(&mut w, 1).set_force(Vec3::new(1000.0, 0.0, 0.0));
+    body_at_mut(&mut w, 3).set_force(Vec3::new(-1000.0, 0.0, 0.0));
     let start = positions(&w);
     for _ in 0..length(120, 1200) {
         w.step().unwrap();
@@ -451,12 +450,12 @@ fn case09_foosball_scene_10000_steps() {
             if (y > 0.05 && v.y > 0.0) || (y < -0.05 && v.y < 0.0) {
                 w.body_mut(p)
                     .unwrap()
-                    .set_linear_velocity(V3::new(v.x, -v.y, v.z));
+                    .set_linear_velocity(Vec3::new(v.x, -v.y, v.z));
             }
         }
         // Kick the ball back into play now and then so the rods keep hitting it.
         if step % 600 == 0 {
-            w.body_mut(b).unwrap().set_linear_velocity(V3::new(
+            w.body_mut(b).unwrap().set_linear_velocity(Vec3::new(
                 if step % 1200 == 0 { 4.0 } else { -4.0 },
                 1.5,
                 0.0,
@@ -530,7 +529,7 @@ fn case10_tiny_and_huge_steps_on_the_same_scene() {
             );
         }
         assert_finite(&w, "case 10");
-        let boxes: Vec<V3> = start[..4].to_vec();
+        let boxes: Vec<Vec3> = start[..4].to_vec();
         let (h, sink) = displacement(&w, &boxes);
         assert!(
             h < 0.01 && sink < 0.01,

@@ -2,8 +2,9 @@
 //! four at a time straight into their lanes (`SolverVariants::lean_resting_contacts`): it
 //! steps to the same bits as with every constraint kept whole.
 
+use virtual_physics::algebra::Vec3;
 use virtual_physics::dynamics::Material;
-use virtual_physics::geometry::{Shape, V3};
+use virtual_physics::geometry::Shape;
 use virtual_physics::pipeline::{BodyBuilder, Effect, World};
 use virtual_physics::scene::builtin::pyramid;
 
@@ -26,7 +27,7 @@ fn pyramid_and_ball(lean: bool) -> World {
             rolling_resistance: 0.05,
             ..Material::default()
         })
-        .position(V3::new(8.0, 0.0, 0.3)),
+        .position(Vec3::new(8.0, 0.0, 0.3)),
     );
     w
 }

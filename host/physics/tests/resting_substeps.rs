@@ -1,7 +1,8 @@
 //! A resting world takes fewer substeps only where its contacts hold it as well on them
 //! (`pipeline/resting_substeps.rs`).
 
-use virtual_physics::geometry::{Shape, V3};
+use virtual_physics::algebra::Vec3;
+use virtual_physics::geometry::Shape;
 use virtual_physics::pipeline::{BodyBuilder, Effect, World};
 use virtual_physics::scene::builtin::{pyramid, towers};
 use virtual_physics::scene::SceneFile;
@@ -25,7 +26,7 @@ fn steps(w: &mut World, n: usize) -> Vec<usize> {
         .collect()
 }
 
-fn largest_move(w: &World, start: &[V3]) -> f64 {
+fn largest_move(w: &World, start: &[Vec3]) -> f64 {
     w.bodies()
         .zip(start)
         .map(|(b, p)| (b.position() - p).norm())
@@ -39,7 +40,7 @@ fn largest_move(w: &World, start: &[V3]) -> f64 {
 #[test]
 fn a_resting_pyramid_takes_a_sixth_of_the_substeps() {
     let mut w = awake(pyramid(5));
-    let start: Vec<V3> = w.bodies().map(|b| b.position()).collect();
+    let start: Vec<Vec3> = w.bodies().map(|b| b.position()).collect();
     let taken = steps(&mut w, 120);
     // Half a second at 1/60 s is 30 steps of rest.
     assert!(taken[..30].iter().all(|&n| n == 12), "{taken:?}");
@@ -57,7 +58,7 @@ fn a_resting_pyramid_takes_a_sixth_of_the_substeps() {
 fn columns_take_fewer_substeps_as_their_height_allows() {
     for (height, fewest) in [(5, 2), (20, 6), (40, 12)] {
         let mut w = awake(towers(1, 1, height));
-        let start: Vec<V3> = w.bodies().map(|b| b.position()).collect();
+        let start: Vec<Vec3> = w.bodies().map(|b| b.position()).collect();
         let taken = steps(&mut w, 120);
         assert!(taken[..30].iter().all(|&n| n == 12), "{height}: {taken:?}");
         assert!(
@@ -82,7 +83,7 @@ fn a_moving_body_brings_the_substeps_back_at_once() {
     let top = w.body_handles().last().unwrap();
     w.body_mut(top)
         .unwrap()
-        .set_linear_velocity(V3::new(0.0, 0.0, 1.0));
+        .set_linear_velocity(Vec3::new(0.0, 0.0, 1.0));
     assert_eq!(steps(&mut w, 1), [12]);
 }
 
@@ -95,10 +96,10 @@ fn an_added_body_counts_the_rest_afresh() {
     assert_eq!(taken.last(), Some(&2), "{taken:?}");
     w.insert_body(
         BodyBuilder::dynamic(Shape::Cuboid {
-            half: V3::repeat(0.5),
+            half: Vec3::repeat(0.5),
         })
         .mass(1.0)
-        .position(V3::new(10.0, 0.0, 0.5)),
+        .position(Vec3::new(10.0, 0.0, 0.5)),
     );
     let taken = steps(&mut w, 60);
     // Half a second at 1/60 s is 30 steps of rest.

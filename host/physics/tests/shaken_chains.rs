@@ -14,9 +14,8 @@
 
 use std::f64::consts::PI;
 use virtual_physics::algebra::{Inertia, Sym3, Vec3, SE3};
-use virtual_physics::geometry::V3;
 use virtual_physics::model::{ArticulatedTree, Prismatic, Revolute};
-use virtual_physics::pipeline::articulated::ArticulatedSystem;
+use virtual_physics::pipeline::ArticulatedSystem;
 use virtual_physics::pipeline::{Effect, Effects, Motor, Trajectory, World};
 
 mod hinged_arm;
@@ -128,7 +127,7 @@ fn shaken_chain(n: usize, steps: usize, with_servo: bool) -> (f64, World) {
 fn world() -> World {
     World::builder(Effects::of(&[Effect::Gravity, Effect::Articulated]))
         .dt(DT)
-        .gravity(V3::new(0.0, 0.0, -G))
+        .gravity(Vec3::new(0.0, 0.0, -G))
         .build()
 }
 

@@ -4,8 +4,7 @@
 //! Each contact between free bodies may overlap by the slop, `LINEAR_SLOP` = 0.1 mm, without
 //! being pushed out. With the sink held, a resting stack stands on its contacts at that slop
 //! whatever their stiffness: a box `k` contacts above the ground sinks `k` slops.
-
-use virtual_physics::geometry::V3;
+use virtual_physics::algebra::Vec3;
 use virtual_physics::pipeline::{Effect, World};
 use virtual_physics::scene::builtin::{pyramid, towers};
 use virtual_physics::scene::SceneFile;
@@ -23,7 +22,7 @@ fn awake(mut s: SceneFile) -> World {
 }
 
 /// The largest sink (m) of any box below its start.
-fn largest_sink(w: &World, start: &[V3]) -> f64 {
+fn largest_sink(w: &World, start: &[Vec3]) -> f64 {
     w.bodies()
         .zip(start)
         .map(|(b, p)| p.z - b.position().z)

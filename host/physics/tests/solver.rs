@@ -1,7 +1,6 @@
 //! Solver behaviour: friction, restitution threshold, rolling resistance, joints, free-body
 //! integration on the group and the gyroscopic term.
-
-use virtual_physics::geometry::V3;
+use virtual_physics::algebra::Vec3;
 use virtual_physics::model::Revolute;
 use virtual_physics::pipeline::{Effect, JointBuilder};
 use virtual_physics::scene::builtin::{ball, ball_roll, ground, unit_cube};
@@ -140,7 +139,7 @@ fn revolute_joint_to_a_kinematic_rod_keeps_its_anchor() {
     let (rod, man) = (w.body_named("rod").unwrap(), w.body_named("man").unwrap());
     let j = w
         .insert_joint(
-            JointBuilder::new(&Revolute::new(V3::y()), rod, man).anchor(V3::new(0.0, 0.0, 0.2)),
+            JointBuilder::new(&Revolute::new(Vec3::y()), rod, man).anchor(Vec3::new(0.0, 0.0, 0.2)),
         )
         .unwrap();
     let mut worst: f64 = 0.0;

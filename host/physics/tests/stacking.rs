@@ -4,8 +4,7 @@
 //! The default run uses reduced scenes (2 × 2 towers of 20; a 5-layer pyramid) with the same
 //! boxes, heights, ground, friction and step; `VPHYS_FULL_STACKS=1` runs the full 1120 and
 //! 1240-box scenes (about a minute in the debug profile, a few seconds with `--release`).
-
-use virtual_physics::geometry::V3;
+use virtual_physics::algebra::Vec3;
 use virtual_physics::pipeline::Effect;
 use virtual_physics::scene::builtin::{pyramid, towers};
 use virtual_physics::scene::SceneFile;
@@ -22,7 +21,7 @@ fn full() -> bool {
 /// (largest horizontal move, largest sink of any box, m) over 600 steps.
 fn stand(s: SceneFile) -> (f64, f64) {
     let mut w = s.build().unwrap();
-    let start: Vec<V3> = positions(&w);
+    let start: Vec<Vec3> = positions(&w);
     let mut horiz: f64 = 0.0;
     let mut sink: f64 = 0.0;
     for _ in 0..600 {

@@ -6,9 +6,9 @@
 use std::f64::consts::FRAC_PI_2;
 use virtual_physics::algebra::{exp_so3, Inertia, Sym3, Vec3, SE3};
 use virtual_physics::dynamics::BodyKind;
-use virtual_physics::geometry::{Material, Shape, V3};
+use virtual_physics::geometry::{Material, Shape};
 use virtual_physics::model::{ArticulatedTree, Free, Prismatic, Revolute};
-use virtual_physics::pipeline::articulated::ArticulatedSystem;
+use virtual_physics::pipeline::ArticulatedSystem;
 use virtual_physics::pipeline::{BodyBuilder, BodyHandle, Effect, Effects, SolverSettings, World};
 
 mod scene_order;
@@ -19,7 +19,7 @@ const G: f64 = 9.81;
 fn world(effects: &[Effect], dt: f64) -> World {
     World::builder(Effects::of(effects))
         .dt(dt)
-        .gravity(V3::new(0.0, 0.0, -G))
+        .gravity(Vec3::new(0.0, 0.0, -G))
         .build()
 }
 
@@ -27,12 +27,12 @@ fn world(effects: &[Effect], dt: f64) -> World {
 fn with_ground(effects: &[Effect], dt: f64) -> (World, BodyHandle) {
     let mut w = world(effects, dt);
     let ground =
-        w.insert_body(BodyBuilder::fixed(Shape::HalfSpace { normal: V3::z() }).name("ground"));
+        w.insert_body(BodyBuilder::fixed(Shape::HalfSpace { normal: Vec3::z() }).name("ground"));
     (w, ground)
 }
 
 /// A solid box's inertia about its centre (kg·m²).
-fn box_inertia(m: f64, half: V3) -> Sym3<f64> {
+fn box_inertia(m: f64, half: Vec3) -> Sym3<f64> {
     let (x, y, z) = (
         4.0 * half.x * half.x,
         4.0 * half.y * half.y,
@@ -55,7 +55,7 @@ fn a_twenty_link_chain_dropped_on_the_ground_rests_on_it() {
     let inertia = Inertia::from_com(
         m,
         Vec3::new(0.5 * len, 0.0, 0.0),
-        box_inertia(m, V3::new(0.5 * len, radius, radius)),
+        box_inertia(m, Vec3::new(0.5 * len, radius, radius)),
     );
     for k in 0..n {
         let (parent, placement) = if k == 0 {
@@ -113,7 +113,7 @@ fn a_twenty_link_chain_dropped_on_the_ground_rests_on_it() {
     // Every link lies on the ground (its capsule's lowest point within 1 mm of z = 0) …
     for i in 1..=n {
         let b = body_at(&w, i);
-        let lowest = b.position().z + (b.rotation() * V3::new(0.5 * len, 0.0, 0.0)).z - radius;
+        let lowest = b.position().z + (b.rotation() * Vec3::new(0.5 * len, 0.0, 0.0)).z - radius;
         assert!(
             lowest.abs() <= 1e-3,
             "link {} lowest point at {lowest} m",
@@ -134,8 +134,8 @@ fn a_twenty_link_chain_dropped_on_the_ground_rests_on_it() {
 /// (another tree) rests on the plate: link on link.
 #[test]
 fn a_link_of_one_tree_rests_on_a_link_of_another() {
-    let plate = V3::new(0.3, 0.3, 0.02);
-    let cube = V3::new(0.05, 0.05, 0.05);
+    let plate = Vec3::new(0.3, 0.3, 0.02);
+    let cube = Vec3::new(0.05, 0.05, 0.05);
     let mut slider = ArticulatedTree::new(Vec3::new(0.0, 0.0, -G));
     let plate_inertia = Inertia::from_com(2.0, Vec3::zeros(), box_inertia(2.0, plate));
     slider
@@ -231,14 +231,14 @@ fn a_pendulum_strikes_a_free_box_with_the_analytic_impulse() {
         SE3::from_translation(Vec3::new(0.0, 0.0, -l)),
         frictionless,
     );
-    let (big_m, half) = (2.0, V3::repeat(0.05));
+    let (big_m, half) = (2.0, Vec3::repeat(0.05));
     let mut w = world(&[Effect::Contacts, Effect::Articulated], 1e-3);
     let bx = w.insert_body(
         BodyBuilder::dynamic(Shape::Cuboid { half })
             .name("box")
             .material(frictionless)
             .mass(big_m)
-            .position(V3::new(-(r + half.x), 0.0, pivot.z - l)),
+            .position(Vec3::new(-(r + half.x), 0.0, pivot.z - l)),
     );
     w.insert_tree(sys);
     // The impact comes at 12.3 ms; run on past it while the pendulum swings away.
@@ -300,14 +300,14 @@ fn an_arm_whose_motors_press_a_box_onto_the_ground_reaches_static_equilibrium() 
     let (m_link, tau_max, m_box) = (0.5, 2.0, 1.0);
     let lengths = [0.3, 0.3, 0.2];
     let tip = 0.02;
-    let half = V3::repeat(0.05);
+    let half = Vec3::repeat(0.05);
     let mut tree = ArticulatedTree::new(Vec3::new(0.0, 0.0, -G));
     let base = Vec3::new(0.0, 0.0, 2.0 * half.z + tip);
     for (k, &len) in lengths.iter().enumerate() {
         let inertia = Inertia::from_com(
             m_link,
             Vec3::new(0.5 * len, 0.0, 0.0),
-            box_inertia(m_link, V3::new(0.5 * len, 0.01, 0.01)),
+            box_inertia(m_link, Vec3::new(0.5 * len, 0.01, 0.01)),
         );
         let (parent, placement) = if k == 0 {
             (None, SE3::from_translation(base))
@@ -366,7 +366,7 @@ fn an_arm_whose_motors_press_a_box_onto_the_ground_reaches_static_equilibrium() 
         BodyBuilder::dynamic(Shape::Cuboid { half })
             .name("box")
             .mass(m_box)
-            .position(V3::new(reach, 0.0, half.z)),
+            .position(Vec3::new(reach, 0.0, half.z)),
     );
     w.insert_tree(sys);
     for _ in 0..1500 {

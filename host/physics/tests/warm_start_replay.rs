@@ -2,7 +2,8 @@
 //! impulses the contacts' own warm start applies, and only where nothing else in the solve
 //! changes the bodies' velocities.
 
-use virtual_physics::geometry::{Shape, V3};
+use virtual_physics::algebra::Vec3;
+use virtual_physics::geometry::Shape;
 use virtual_physics::model::Ball;
 use virtual_physics::pipeline::{BodyBuilder, Effect, Effects, JointBuilder, World};
 use virtual_physics::scene::builtin::pyramid;
@@ -30,7 +31,7 @@ fn largest_differences(a: &World, b: &World) -> (f64, f64) {
 }
 
 /// Every body's position and velocities after `steps` steps, the last of them in contact.
-fn state_after(w: &mut World, steps: usize) -> Vec<(V3, V3, V3)> {
+fn state_after(w: &mut World, steps: usize) -> Vec<(Vec3, Vec3, Vec3)> {
     for _ in 0..steps {
         w.step().unwrap();
     }
@@ -69,19 +70,19 @@ fn a_world_with_joints_keeps_the_contacts_own_warm_start() {
             Effect::Joints,
         ]);
         let mut w = World::builder(effects)
-            .gravity(V3::new(0.0, 0.0, -9.81))
+            .gravity(Vec3::new(0.0, 0.0, -9.81))
             .build();
         w.variants_mut().replay_warm_start = replay;
-        w.insert_body(BodyBuilder::fixed(Shape::HalfSpace { normal: V3::z() }));
+        w.insert_body(BodyBuilder::fixed(Shape::HalfSpace { normal: Vec3::z() }));
         let mut prev = None;
         for k in 0..6 {
             let b = w.insert_body(
                 BodyBuilder::dynamic(Shape::Sphere { radius: 0.05 })
                     .mass(1.0 + k as f64)
-                    .position(V3::new(0.1 * k as f64, 0.0, 0.06 + 0.01 * k as f64)),
+                    .position(Vec3::new(0.1 * k as f64, 0.0, 0.06 + 0.01 * k as f64)),
             );
             if let Some(a) = prev {
-                let anchor = V3::new(0.1 * k as f64 - 0.05, 0.0, 0.055 + 0.01 * k as f64);
+                let anchor = Vec3::new(0.1 * k as f64 - 0.05, 0.0, 0.055 + 0.01 * k as f64);
                 w.insert_joint(JointBuilder::new(&Ball, a, b).anchor(anchor))
                     .unwrap();
             }

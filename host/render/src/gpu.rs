@@ -11,6 +11,9 @@ mod device;
 mod pipelines;
 mod readback;
 
+pub(crate) use pipelines::DEPTH_FORMAT;
+use pipelines::{Vertex, NEBULA_FORMAT};
+
 #[cfg(target_arch = "wasm32")]
 pub(crate) use device::new_browser_instance;
 pub(crate) use device::{new_instance, open_device, open_device_async, popped_error};
@@ -20,9 +23,6 @@ pub(crate) use readback::{copy_to_buffer, padded_row_bytes, read_buffer};
 
 /// The colour format of offscreen pictures (a window uses its surface's format).
 pub(crate) const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-/// The nebula's texture format: sRGB storage keeps the dark gradients free of banding.
-pub(crate) const NEBULA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 /// The nebula is drawn at `1 / NEBULA_DOWNSCALE` of the frame's width and height and
 /// filtered up (`fs_nebula` in `scene.wgsl`).
 const NEBULA_DOWNSCALE: u32 = 4;
@@ -64,13 +64,6 @@ pub(crate) fn star_grid(width: u32, height: u32) -> ([f32; 3], [f32; 3], u32) {
         total += (cols[k] * rows[k]) as u32;
     }
     (cols, rows, total)
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-pub(crate) struct Vertex {
-    pos: [f32; 3],
-    normal: [f32; 3],
 }
 
 struct Mesh {

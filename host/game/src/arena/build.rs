@@ -21,7 +21,8 @@ use super::parts::{ROD_RADIUS_M, WALL_THICKNESS_M};
 use super::rods;
 use super::{ArenaError, ArenaSettings};
 use crate::table::Table;
-use virtual_physics::geometry::{Material, Shape, M3, V3};
+use virtual_physics::algebra::{Mat3, Vec3};
+use virtual_physics::geometry::{Material, Shape};
 use virtual_physics::pipeline::{BodyBuilder, BodyHandle, TreeHandle, World};
 
 /// Gap around a rod where it passes through a side wall, m: more than the speculative
@@ -109,7 +110,7 @@ struct Builder<'w> {
 }
 
 impl Builder<'_> {
-    fn fixed(&mut self, shape: Shape, centre: V3, rot: M3, material: Material, role: BodyRole) {
+    fn fixed(&mut self, shape: Shape, centre: Vec3, rot: Mat3, material: Material, role: BodyRole) {
         let h = self.world.insert_body(
             BodyBuilder::fixed(shape)
                 .name(format!("{role:?}"))
@@ -120,7 +121,7 @@ impl Builder<'_> {
         self.roles.push((h, role));
     }
 
-    fn fixed_box(&mut self, centre: V3, half: V3, rot: M3, material: Material) {
+    fn fixed_box(&mut self, centre: Vec3, half: Vec3, rot: Mat3, material: Material) {
         self.fixed(
             Shape::Cuboid { half },
             centre,
@@ -131,12 +132,12 @@ impl Builder<'_> {
     }
 
     /// An axis-aligned fixed box from its corners (nothing when it is empty).
-    fn wall(&mut self, min: V3, max: V3, material: Material) {
+    fn wall(&mut self, min: Vec3, max: Vec3, material: Material) {
         if (max - min).min() > 0.0 {
             self.fixed_box(
                 (min + max) * 0.5,
                 (max - min) * 0.5,
-                M3::identity(),
+                Mat3::identity(),
                 material,
             );
         }
@@ -178,16 +179,16 @@ fn corner_ramps(
     if f.corner_ramp_m > 0.0 && f.corner_ramp_height_m > 0.0 {
         for sy in [-1.0f64, 1.0] {
             let (r, h) = (f.corner_ramp_m, f.corner_ramp_height_m);
-            let n = V3::new(-sx * h / r, -sy * h / r, 1.0).normalize();
-            let x_axis = V3::new(sx, -sy, 0.0).normalize();
+            let n = Vec3::new(-sx * h / r, -sy * h / r, 1.0).normalize();
+            let x_axis = Vec3::new(sx, -sy, 0.0).normalize();
             let y_axis = n.cross(&x_axis);
-            let rot = M3::from_columns(&[x_axis, y_axis, n]);
+            let rot = Mat3::from_columns(&[x_axis, y_axis, n]);
             // A point of the ramp plane above the centroid of its corner triangle.
-            let on_plane = V3::new(sx * (hl - r / 3.0), sy * (hw - r / 3.0), h / 3.0);
+            let on_plane = Vec3::new(sx * (hl - r / 3.0), sy * (hw - r / 3.0), h / 3.0);
             let centre = on_plane - n * RAMP_HALF_THICKNESS_M;
             b.fixed_box(
                 centre,
-                V3::new(1.5 * r, 1.5 * r, RAMP_HALF_THICKNESS_M),
+                Vec3::new(1.5 * r, 1.5 * r, RAMP_HALF_THICKNESS_M),
                 rot,
                 m.wall,
             );
@@ -215,17 +216,17 @@ pub(crate) fn build(
         roles: Vec::new(),
     };
     b.fixed(
-        Shape::HalfSpace { normal: V3::z() },
-        V3::zeros(),
-        M3::identity(),
+        Shape::HalfSpace { normal: Vec3::z() },
+        Vec3::zeros(),
+        Mat3::identity(),
         m.cloth,
         BodyRole::Field,
     );
     if settings.cover {
         b.fixed(
-            Shape::HalfSpace { normal: -V3::z() },
-            V3::new(0.0, 0.0, wh),
-            M3::identity(),
+            Shape::HalfSpace { normal: -Vec3::z() },
+            Vec3::new(0.0, 0.0, wh),
+            Mat3::identity(),
             m.wall,
             BodyRole::Wall,
         );
@@ -242,14 +243,22 @@ pub(crate) fn build(
         } else {
             (-hw - t, -hw)
         };
-        b.wall(V3::new(-hl - t, y0, -t), V3::new(hl + t, y1, z0), m.wall);
-        b.wall(V3::new(-hl - t, y0, z1), V3::new(hl + t, y1, wh), m.wall);
+        b.wall(
+            Vec3::new(-hl - t, y0, -t),
+            Vec3::new(hl + t, y1, z0),
+            m.wall,
+        );
+        b.wall(
+            Vec3::new(-hl - t, y0, z1),
+            Vec3::new(hl + t, y1, wh),
+            m.wall,
+        );
         let mut from = -hl - t;
         for &x in &xs {
-            b.wall(V3::new(from, y0, z0), V3::new(x - slot, y1, z1), m.wall);
+            b.wall(Vec3::new(from, y0, z0), Vec3::new(x - slot, y1, z1), m.wall);
             from = x + slot;
         }
-        b.wall(V3::new(from, y0, z0), V3::new(hl + t, y1, z1), m.wall);
+        b.wall(Vec3::new(from, y0, z0), Vec3::new(hl + t, y1, z1), m.wall);
     }
     for sx in [-1.0f64, 1.0] {
         let (x0, x1) = if sx > 0.0 {
@@ -258,31 +267,39 @@ pub(crate) fn build(
             (-hl - t, -hl)
         };
         // End wall beside the mouth, both sides.
-        b.wall(V3::new(x0, gw, -t), V3::new(x1, hw + t, wh), m.wall);
-        b.wall(V3::new(x0, -hw - t, -t), V3::new(x1, -gw, wh), m.wall);
+        b.wall(Vec3::new(x0, gw, -t), Vec3::new(x1, hw + t, wh), m.wall);
+        b.wall(Vec3::new(x0, -hw - t, -t), Vec3::new(x1, -gw, wh), m.wall);
         // Lintel above the mouth.
-        b.wall(V3::new(x0, -gw, gh), V3::new(x1, gw, wh), m.wall);
+        b.wall(Vec3::new(x0, -gw, gh), Vec3::new(x1, gw, wh), m.wall);
         // The goal box behind the mouth: sides, back, roof (floor: the field).
         let (gx0, gx1) = if sx > 0.0 {
             (hl, hl + gd + t)
         } else {
             (-hl - gd - t, -hl)
         };
-        b.wall(V3::new(gx0, gw, -t), V3::new(gx1, gw + t, gh + t), m.goal);
-        b.wall(V3::new(gx0, -gw - t, -t), V3::new(gx1, -gw, gh + t), m.goal);
+        b.wall(
+            Vec3::new(gx0, gw, -t),
+            Vec3::new(gx1, gw + t, gh + t),
+            m.goal,
+        );
+        b.wall(
+            Vec3::new(gx0, -gw - t, -t),
+            Vec3::new(gx1, -gw, gh + t),
+            m.goal,
+        );
         let (bx0, bx1) = if sx > 0.0 {
             (hl + gd, hl + gd + t)
         } else {
             (-hl - gd - t, -hl - gd)
         };
         b.wall(
-            V3::new(bx0, -gw - t, -t),
-            V3::new(bx1, gw + t, gh + t),
+            Vec3::new(bx0, -gw - t, -t),
+            Vec3::new(bx1, gw + t, gh + t),
             m.goal,
         );
         b.wall(
-            V3::new(gx0, -gw - t, gh),
-            V3::new(gx1, gw + t, gh + t),
+            Vec3::new(gx0, -gw - t, gh),
+            Vec3::new(gx1, gw + t, gh + t),
             m.goal,
         );
         corner_ramps(&mut b, f, sx, hl, hw, &m);
@@ -293,7 +310,7 @@ pub(crate) fn build(
             .name("ball")
             .material(m.ball)
             .mass(table.ball.mass_kg)
-            .position(V3::new(0.0, 0.0, r)),
+            .position(Vec3::new(0.0, 0.0, r)),
     );
     b.roles.push((ball, BodyRole::Ball));
     // Rods and men: one tree per rod.

@@ -23,18 +23,18 @@
 
 use super::build::BodyRole;
 use crate::rules::{Contact, ContactWith};
-use virtual_physics::geometry::V3;
+use virtual_physics::algebra::Vec3;
 use virtual_physics::pipeline::{BodyHandle, World};
 
 /// The ball's state at the start of a step (body frame origin = centre), table frame.
 #[derive(Debug, Clone, Copy)]
 pub struct BallBefore {
     /// Centre, m.
-    pub position: V3,
+    pub position: Vec3,
     /// Velocity, m/s.
-    pub velocity: V3,
+    pub velocity: Vec3,
     /// Angular velocity, rad/s.
-    pub spin: V3,
+    pub spin: Vec3,
 }
 
 fn contact_with(role: BodyRole) -> Option<ContactWith> {
@@ -123,7 +123,7 @@ pub fn clearance(
     roles: &[BodyRole],
     ball: usize,
     radius_m: f64,
-    centre: &V3,
+    centre: &Vec3,
 ) -> (f64, BodyRole) {
     let mut best = (f64::INFINITY, BodyRole::Field);
     for (i, body) in world.bodies().enumerate() {

@@ -33,7 +33,7 @@ pub use parts::{ROD_RADIUS_M, WALL_THICKNESS_M};
 use crate::ai::RodTarget;
 use crate::rules::{BallState, Contact};
 use crate::table::{Table, TableError};
-use virtual_physics::geometry::V3;
+use virtual_physics::algebra::Vec3;
 use virtual_physics::pipeline::{BodyHandle, Effect, Effects, SolverSettings, TreeHandle, World};
 
 /// The physics step, s: 1 ms (1 kHz), one world step.
@@ -249,7 +249,7 @@ impl Arena {
         };
         let mut world = World::builder(effects)
             .dt(DT_S)
-            .gravity(V3::new(0.0, 0.0, -GRAVITY_M_PER_S2))
+            .gravity(Vec3::new(0.0, 0.0, -GRAVITY_M_PER_S2))
             .settings(solver)
             .build();
         let built = build::build(table, &settings, &mut world)?;
@@ -352,7 +352,7 @@ impl Arena {
         let (p, v) = self
             .world
             .body(self.ball)
-            .map_or((V3::zeros(), V3::zeros()), |b| {
+            .map_or((Vec3::zeros(), Vec3::zeros()), |b| {
                 (b.position(), b.linear_velocity())
             });
         BallState {
@@ -366,7 +366,7 @@ impl Arena {
         let w = self
             .world
             .body(self.ball)
-            .map_or(V3::zeros(), |b| b.angular_velocity());
+            .map_or(Vec3::zeros(), |b| b.angular_velocity());
         [w.x, w.y, w.z]
     }
 
@@ -424,16 +424,16 @@ impl Arena {
     /// Puts the ball at `position` (m) with `velocity` (m/s) and no spin.
     pub fn place_ball(&mut self, position: [f64; 3], velocity: [f64; 3]) {
         if let Some(mut b) = self.world.body_mut(self.ball) {
-            b.set_position(V3::from(position))
-                .set_linear_velocity(V3::from(velocity))
-                .set_angular_velocity(V3::zeros());
+            b.set_position(Vec3::from(position))
+                .set_linear_velocity(Vec3::from(velocity))
+                .set_angular_velocity(Vec3::zeros());
         }
     }
 
     /// Puts the ball's spin (rad/s, table frame).
     pub fn set_ball_spin(&mut self, spin: [f64; 3]) {
         if let Some(mut b) = self.world.body_mut(self.ball) {
-            b.set_angular_velocity(V3::from(spin));
+            b.set_angular_velocity(Vec3::from(spin));
         }
     }
 
@@ -474,7 +474,7 @@ impl Arena {
             &self.roles,
             self.ball_index,
             self.table.ball.radius_m(),
-            &V3::from(point),
+            &Vec3::from(point),
         )
     }
 
@@ -501,9 +501,9 @@ impl Arena {
     fn ball_body_state(&self) -> contacts::BallBefore {
         let b = self.world.body(self.ball);
         contacts::BallBefore {
-            position: b.map_or(V3::zeros(), |b| b.position()),
-            velocity: b.map_or(V3::zeros(), |b| b.linear_velocity()),
-            spin: b.map_or(V3::zeros(), |b| b.angular_velocity()),
+            position: b.map_or(Vec3::zeros(), |b| b.position()),
+            velocity: b.map_or(Vec3::zeros(), |b| b.linear_velocity()),
+            spin: b.map_or(Vec3::zeros(), |b| b.angular_velocity()),
         }
     }
 }

@@ -2,7 +2,8 @@
 //! the rotations a rod's turn and a lying cylinder take, a man's shapes. The world's
 //! bodies (`build.rs`) and the rods' trees (`rods.rs`) are built from them.
 
-use virtual_physics::geometry::{Shape, M3, V3};
+use virtual_physics::algebra::{Mat3, Vec3};
+use virtual_physics::geometry::Shape;
 
 /// Wall thickness, m: thick against tunnelling (the ball moves at most ~2 cm per step).
 pub const WALL_THICKNESS_M: f64 = 0.05;
@@ -10,14 +11,14 @@ pub const WALL_THICKNESS_M: f64 = 0.05;
 pub const ROD_RADIUS_M: f64 = 0.008;
 
 /// Rotation about `+y` by `angle` (rad): the rod's turn (0 = feet down).
-pub fn rot_y(angle: f64) -> M3 {
+pub fn rot_y(angle: f64) -> Mat3 {
     let (s, c) = virtual_physics::transcendental::sin_cos(angle);
-    M3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c)
+    Mat3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c)
 }
 
 /// Rotation taking the body `z` axis to the table's `+y` (cylinders lie along body `z`).
-pub fn z_to_y_rotation() -> M3 {
-    M3::new(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0)
+pub fn z_to_y_rotation() -> Mat3 {
+    Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0)
 }
 
 /// The character's two boxes ([`crate::table::CharacterParams::boxes`]: body, leg),
@@ -28,7 +29,7 @@ pub fn z_to_y_rotation() -> M3 {
 /// rounded sole to the ball's centre) instead of pressing it flat into the cloth, which
 /// a flat kinematic sole does. The drawn men (square soles) differ only in the two
 /// sole edges, by at most `r (1 − 1/√2)` ≈ 2 mm.
-pub fn man_shapes(character: &crate::table::CharacterParams) -> Vec<(Shape, V3, M3)> {
+pub fn man_shapes(character: &crate::table::CharacterParams) -> Vec<(Shape, Vec3, Mat3)> {
     let [body, leg] = character.boxes();
     let r = 0.5 * character.body_depth_m;
     let sole_centre_z = -character.foot_reach_m + r;
@@ -37,24 +38,24 @@ pub fn man_shapes(character: &crate::table::CharacterParams) -> Vec<(Shape, V3, 
     vec![
         (
             Shape::Cuboid {
-                half: V3::from(body.half_extents),
+                half: Vec3::from(body.half_extents),
             },
-            V3::from(body.centre),
-            M3::identity(),
+            Vec3::from(body.centre),
+            Mat3::identity(),
         ),
         (
             Shape::Cuboid {
-                half: V3::new(leg.half_extents[0], leg.half_extents[1], leg_half_z),
+                half: Vec3::new(leg.half_extents[0], leg.half_extents[1], leg_half_z),
             },
-            V3::new(leg.centre[0], leg.centre[1], sole_centre_z + leg_half_z),
-            M3::identity(),
+            Vec3::new(leg.centre[0], leg.centre[1], sole_centre_z + leg_half_z),
+            Mat3::identity(),
         ),
         (
             Shape::Capsule {
                 radius: r,
                 half_height: (leg.half_extents[1] - r).max(0.0),
             },
-            V3::new(leg.centre[0], leg.centre[1], sole_centre_z),
+            Vec3::new(leg.centre[0], leg.centre[1], sole_centre_z),
             z_to_y_rotation(),
         ),
     ]

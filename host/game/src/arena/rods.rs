@@ -22,10 +22,11 @@
 use super::parts::{man_shapes, z_to_y_rotation, ROD_RADIUS_M, WALL_THICKNESS_M};
 use super::{ArenaError, ArenaSettings, GRAVITY_M_PER_S2};
 use crate::table::Table;
+use virtual_physics::algebra::Mat3;
 use virtual_physics::algebra::{Inertia, Sym3, Vec3, SE3};
-use virtual_physics::geometry::{Compound, Material, PartDesc, Shape, M3, V3};
+use virtual_physics::geometry::{Compound, Material, PartDesc, Shape};
 use virtual_physics::model::{ArticulatedTree, Cylindrical};
-use virtual_physics::pipeline::articulated::ArticulatedSystem;
+use virtual_physics::pipeline::ArticulatedSystem;
 use virtual_physics::pipeline::Motor;
 
 /// Density of the rods' steel, kg/m³.
@@ -70,7 +71,7 @@ fn parts(table: &Table, rod: usize, man: Material) -> Vec<PartDesc> {
         for (shape, centre, rot) in &shapes {
             out.push(PartDesc {
                 shape: shape.clone(),
-                pose: SE3::new(*rot, centre + V3::new(0.0, offset, 0.0)),
+                pose: SE3::new(*rot, centre + Vec3::new(0.0, offset, 0.0)),
                 mass: character.mass_kg * shape.volume() / volume,
                 material: man,
             });
@@ -99,7 +100,7 @@ fn com(mass: &virtual_physics::geometry::CompoundMass) -> Vec3<f64> {
 /// The inertia about the centre of mass in the link frame: `R diag(I) Rᵀ`.
 fn link_inertia(mass: &virtual_physics::geometry::CompoundMass) -> Sym3<f64> {
     let r = mass.body_in_reference.r;
-    let m: M3 = r * M3::from_diagonal(&mass.principal_inertia) * r.transpose();
+    let m: Mat3 = r * Mat3::from_diagonal(&mass.principal_inertia) * r.transpose();
     Sym3::new(
         m[(0, 0)],
         m[(1, 1)],

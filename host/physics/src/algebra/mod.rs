@@ -32,8 +32,8 @@ pub use twist::se3;
 pub use wrench::dse3;
 
 /// A 3-vector (nalgebra).
-pub type Vec3<T> = nalgebra::Vector3<T>;
+pub type Vec3<T = f64> = nalgebra::Vector3<T>;
 /// A 3×3 matrix (nalgebra).
-pub type Mat3<T> = nalgebra::Matrix3<T>;
+pub type Mat3<T = f64> = nalgebra::Matrix3<T>;
 
 pub(crate) use kernels::*;

@@ -9,17 +9,17 @@ use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sym3<T: Real> {
     /// Entry (0,0).
-    pub xx: T,
+    pub(crate) xx: T,
     /// Entry (1,1).
     pub yy: T,
     /// Entry (2,2).
-    pub zz: T,
+    pub(crate) zz: T,
     /// Entries (0,1) = (1,0).
-    pub xy: T,
+    pub(crate) xy: T,
     /// Entries (0,2) = (2,0).
-    pub xz: T,
+    pub(crate) xz: T,
     /// Entries (1,2) = (2,1).
-    pub yz: T,
+    pub(crate) yz: T,
 }
 
 impl<T: Real> Sym3<T> {
@@ -38,14 +38,14 @@ impl<T: Real> Sym3<T> {
 
     /// The zero matrix.
     #[inline(always)]
-    pub fn zeros() -> Self {
+    pub(crate) fn zeros() -> Self {
         let z = T::zero();
         Self::new(z, z, z, z, z, z)
     }
 
     /// `s · 1`.
     #[inline(always)]
-    pub fn scalar(s: T) -> Self {
+    pub(crate) fn scalar(s: T) -> Self {
         let z = T::zero();
         Self::new(s, s, s, z, z, z)
     }
@@ -79,7 +79,7 @@ impl<T: Real> Sym3<T> {
 
     /// `S x` — 9×, 6+.
     #[inline(always)]
-    pub fn mul_vec(&self, x: &Vec3<T>) -> Vec3<T> {
+    pub(crate) fn mul_vec(&self, x: &Vec3<T>) -> Vec3<T> {
         Vec3::new(
             self.xx * x.x + self.xy * x.y + self.xz * x.z,
             self.xy * x.x + self.yy * x.y + self.yz * x.z,
@@ -89,7 +89,7 @@ impl<T: Real> Sym3<T> {
 
     /// `Rᵀ S R` (S re-expressed in the frame whose axes are the columns of `R`) — 45×, 30+.
     #[inline(always)]
-    pub fn congruence_t(&self, r: &Mat3<T>) -> Self {
+    pub(crate) fn congruence_t(&self, r: &Mat3<T>) -> Self {
         // A = S R (27×, 18+), then the upper triangle of Rᵀ A (18×, 12+).
         let c0 = self.mul_vec(&Vec3::new(r[(0, 0)], r[(1, 0)], r[(2, 0)]));
         let c1 = self.mul_vec(&Vec3::new(r[(0, 1)], r[(1, 1)], r[(2, 1)]));

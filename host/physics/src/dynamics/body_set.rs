@@ -23,7 +23,7 @@ pub enum BodyKind {
 
 /// Every body of a world, structure of arrays (index = body id).
 #[derive(Clone, Debug, Default)]
-pub(crate) struct BodySet {
+pub struct BodySet {
     /// Names (may be empty).
     pub(crate) name: Vec<String>,
     /// Kind.

@@ -60,11 +60,7 @@ pub fn cholesky_solve<T: Real>(a: &mut [T], n: usize, b: &mut [T]) -> Result<(),
 
 /// Inverts the symmetric positive-definite row-major `n×n` matrix `a` into `inv`
 /// (`a` is overwritten by its factor).
-pub(crate) fn spd_inverse<T: Real>(
-    a: &mut [T],
-    n: usize,
-    inv: &mut [T],
-) -> Result<(), CholeskyError> {
+pub fn spd_inverse<T: Real>(a: &mut [T], n: usize, inv: &mut [T]) -> Result<(), CholeskyError> {
     if n == 2 {
         return spd_inverse2(a, inv);
     }

@@ -22,7 +22,7 @@ pub fn acceleration<T: Real>(j: &Inertia<T>, v: &se3<T>, f: &dse3<T>) -> se3<T> 
 
 /// `J⁻¹ F` for a body with positive mass and inertia, in block form:
 /// `(I_o + [h][h]/m) w = m_F − h × f / m`, then `v = (f + h × w) / m`.
-pub fn solve<T: Real>(j: &Inertia<T>, f: &dse3<T>) -> se3<T> {
+pub(crate) fn solve<T: Real>(j: &Inertia<T>, f: &dse3<T>) -> se3<T> {
     let minv = T::one() / j.m;
     let hc = Inertia::from_com(j.m, scale(minv, &j.h), Sym3::zeros());
     // Rotational inertia about the centre of mass (symmetric positive definite).

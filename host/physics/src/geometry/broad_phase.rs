@@ -18,12 +18,12 @@ use super::{Aabb, CollisionBodies, Shape};
 /// Worlds of at most this many bodies test all pairs: 2 016 box tests of a few ns each,
 /// against the grid's hashing and sorting of every cell a body covers (a foosball table's
 /// rods span the field and cover some 40 cells each).
-pub const ALL_PAIRS_BODIES: usize = 64;
+pub(crate) const ALL_PAIRS_BODIES: usize = 64;
 
 /// How far (m) a body's box may move out of place before the grid is built again: each
 /// body's box is grown by this much for the grid, and while every body's box stays within its
 /// grown box the kept pairs are reused. Half Box2D v3's `B2_AABB_MARGIN` (0.1 m).
-pub const REUSE_MARGIN: f64 = 0.05;
+pub(crate) const REUSE_MARGIN: f64 = 0.05;
 
 /// Most cells one body may cover before it is treated as oversized.
 const MAX_CELLS_PER_BODY: i64 = 64;
@@ -32,7 +32,7 @@ const MAX_CELLS_PER_BODY: i64 = 64;
 #[derive(Clone, Debug)]
 pub struct BroadPhase {
     /// Cell edge (m).
-    pub cell: f64,
+    pub(crate) cell: f64,
     entries: Vec<(u64, u32)>,
     oversized: Vec<u32>,
     /// Candidate pairs of the last update, sorted keys `a << 32 | b`.

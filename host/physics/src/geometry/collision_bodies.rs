@@ -27,17 +27,12 @@ pub struct CollisionBodies<'a> {
 
 impl CollisionBodies<'_> {
     /// Number of bodies.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.shape.len()
     }
 
     /// [`Self::travel`] of body `i` (m).
-    pub fn travel(&self, i: usize) -> f64 {
+    pub(crate) fn travel(&self, i: usize) -> f64 {
         self.travel.get(i).copied().unwrap_or(0.0)
-    }
-
-    /// Whether there are none.
-    pub fn is_empty(&self) -> bool {
-        self.shape.is_empty()
     }
 }

@@ -17,13 +17,13 @@ use std::sync::Arc;
 #[derive(Clone, Debug, PartialEq)]
 pub struct Part {
     /// The shape (never a half-space or another compound), centred on its own frame.
-    pub shape: Shape,
+    pub(crate) shape: Shape,
     /// Rotation body from part (columns: the part's axes in the body frame).
-    pub rot: M3,
+    pub(crate) rot: M3,
     /// Centre of the part in the body frame (m).
-    pub pos: V3,
+    pub(crate) pos: V3,
     /// Surface properties of this part.
-    pub material: Material,
+    pub(crate) material: Material,
 }
 
 /// A part as the user states it: in the compound's reference frame, with its mass.
@@ -146,7 +146,7 @@ impl Compound {
 
     /// A compound of parts already posed in the body frame, for collision only: it has no
     /// mass properties of its own (the shapes on a tree link, whose mass is the model's).
-    pub fn from_parts(parts: Vec<Part>) -> Result<Compound, CompoundError> {
+    pub(crate) fn from_parts(parts: Vec<Part>) -> Result<Compound, CompoundError> {
         if parts.is_empty() {
             return Err(CompoundError::Empty);
         }
@@ -172,12 +172,12 @@ impl Compound {
     }
 
     /// The parts, posed in the body frame.
-    pub fn parts(&self) -> &[Part] {
+    pub(crate) fn parts(&self) -> &[Part] {
         &self.parts
     }
 
     /// Wraps it as a shape.
-    pub fn into_shape(self) -> Shape {
+    pub(crate) fn into_shape(self) -> Shape {
         Shape::Compound(Arc::new(self))
     }
 

@@ -13,19 +13,19 @@ pub struct ContactPoint {
     /// Signed distance along the normal, negative when overlapping (m).
     pub separation: f64,
     /// Anchor in body A's frame (m), used to match points across steps.
-    pub local_a: V3,
+    pub(crate) local_a: V3,
     /// Anchor in body B's frame (m) when the manifold was collided (for a refresh).
-    pub local_b: V3,
+    pub(crate) local_b: V3,
     /// Separation when the manifold was collided (m).
-    pub origin_separation: f64,
+    pub(crate) origin_separation: f64,
     /// Accumulated normal impulse (N·s), carried over for warm starting.
-    pub normal_impulse: f64,
+    pub(crate) normal_impulse: f64,
     /// Accumulated tangent impulses along the manifold's two tangents (N·s), for a contact
     /// solved point by point (an articulated link's); a free body's contact carries its
     /// friction for the whole manifold ([`Manifold::friction_impulse`]).
-    pub tangent_impulse: [f64; 2],
+    pub(crate) tangent_impulse: [f64; 2],
     /// Largest normal impulse applied in the last step (N·s): the contact's "hit" strength.
-    pub max_normal_impulse: f64,
+    pub(crate) max_normal_impulse: f64,
 }
 
 /// The contact between a shape of one body and a shape of another: a shared normal and up to
@@ -33,36 +33,36 @@ pub struct ContactPoint {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Manifold {
     /// Body A (index into the body set); the normal points from A to B.
-    pub a: u32,
+    pub(crate) a: u32,
     /// Body B.
-    pub b: u32,
+    pub(crate) b: u32,
     /// Part of A's shape that touches (0 unless A is a compound).
-    pub part_a: u16,
+    pub(crate) part_a: u16,
     /// Part of B's shape that touches (0 unless B is a compound).
-    pub part_b: u16,
+    pub(crate) part_b: u16,
     /// Unit normal, world frame, from A to B.
     pub normal: V3,
     /// Points (first `len` valid).
-    pub points: [ContactPoint; MAX_MANIFOLD_POINTS],
+    pub(crate) points: [ContactPoint; MAX_MANIFOLD_POINTS],
     /// Number of valid points.
-    pub len: usize,
+    pub(crate) len: usize,
     /// Accumulated friction impulse at the points' centroid along the manifold's two
     /// tangents (N·s), warm started (patch friction).
-    pub friction_impulse: [f64; 2],
+    pub(crate) friction_impulse: [f64; 2],
     /// Accumulated torsional friction impulse about the normal (N·m·s), warm started.
-    pub twist_impulse: f64,
+    pub(crate) twist_impulse: f64,
     /// Accumulated rolling-resistance angular impulse (N·m·s, world), warm started.
-    pub rolling_impulse: V3,
+    pub(crate) rolling_impulse: V3,
     /// The substep (s) over which the carried impulses were accumulated (they are per
     /// substep); 0 when none were.
-    pub impulse_substep: f64,
+    pub(crate) impulse_substep: f64,
     /// Overlap (m) each point is solved as if it had beyond its own: the sink the contact's
     /// load leaves in a soft contact, learned step after step, so a resting stack stands at
     /// its slop instead of sinking (`pipeline/sink_hold.rs`).
-    pub held_overlap: f64,
+    pub(crate) held_overlap: f64,
     /// Where B lay in A's frame when the points were collided; `None` for a manifold that is
     /// always collided again (compounds, round shapes, continuous collision).
-    pub origin: Option<PairPose>,
+    pub(crate) origin: Option<PairPose>,
 }
 
 impl Manifold {
@@ -72,7 +72,7 @@ impl Manifold {
     }
 
     /// An empty manifold between part `part_a` of body `a` and part `part_b` of body `b`.
-    pub fn between_parts(a: u32, part_a: u16, b: u32, part_b: u16) -> Self {
+    pub(crate) fn between_parts(a: u32, part_a: u16, b: u32, part_b: u16) -> Self {
         Self {
             a,
             b,
@@ -92,13 +92,13 @@ impl Manifold {
 
     /// The sorted pair key `a << 32 | b`.
     #[inline]
-    pub fn key(&self) -> u64 {
+    pub(crate) fn key(&self) -> u64 {
         ((self.a as u64) << 32) | self.b as u64
     }
 
     /// The sort key of the manifold among those of its body pair: `part_a << 16 | part_b`.
     #[inline]
-    pub fn part_key(&self) -> u32 {
+    pub(crate) fn part_key(&self) -> u32 {
         ((self.part_a as u32) << 16) | self.part_b as u32
     }
 
@@ -109,7 +109,7 @@ impl Manifold {
 
     /// Appends a point (ignored when full).
     #[inline]
-    pub fn push(&mut self, point: V3, separation: f64) {
+    pub(crate) fn push(&mut self, point: V3, separation: f64) {
         if self.len < MAX_MANIFOLD_POINTS {
             self.points[self.len] = ContactPoint {
                 point,
@@ -121,7 +121,7 @@ impl Manifold {
     }
 
     /// Deepest separation of the valid points (m), `+∞` when empty.
-    pub fn min_separation(&self) -> f64 {
+    pub(crate) fn min_separation(&self) -> f64 {
         self.points()
             .iter()
             .map(|p| p.separation)

@@ -25,17 +25,17 @@ use super::posed_part::PosedPart;
 use super::{Manifold, Shape, M3, V3};
 
 /// Largest motion (m) of any point of B relative to A for which a manifold is refreshed.
-pub const MAX_RELATIVE_MOTION: f64 = 1e-4;
+pub(crate) const MAX_RELATIVE_MOTION: f64 = 1e-4;
 
 /// Where body B lay in body A's frame when a manifold's points were computed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairPose {
     /// B's rotation in A's frame, `R_Aᵀ R_B`.
-    pub rot: M3,
+    pub(crate) rot: M3,
     /// B's centre in A's frame (m), `R_Aᵀ (p_B − p_A)`.
-    pub pos: V3,
+    pub(crate) pos: V3,
     /// The normal in A's frame (unit).
-    pub normal: V3,
+    pub(crate) normal: V3,
 }
 
 /// The largest motion (m) a refresh may cover for the pair of shapes `a`, `b` and

@@ -26,13 +26,13 @@ impl Default for Material {
 impl Material {
     /// The friction coefficient of a pair of surfaces: `sqrt(μa μb)` (–).
     #[inline]
-    pub fn pair_friction(&self, other: &Material) -> f64 {
+    pub(crate) fn pair_friction(&self, other: &Material) -> f64 {
         (self.friction * other.friction).sqrt()
     }
 
     /// The restitution coefficient of a pair of surfaces: the larger (–).
     #[inline]
-    pub fn pair_restitution(&self, other: &Material) -> f64 {
+    pub(crate) fn pair_restitution(&self, other: &Material) -> f64 {
         self.restitution.max(other.restitution)
     }
 }

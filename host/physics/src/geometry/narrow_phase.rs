@@ -17,28 +17,28 @@ use super::primitives as p;
 use super::{Aabb, CollisionBodies, Manifold, Shape, M3, V3};
 
 /// Anchors closer than this (m, body A frame) are the same contact point across steps.
-pub const MATCH_DISTANCE: f64 = 0.05;
+pub(crate) const MATCH_DISTANCE: f64 = 0.05;
 
 /// Counts of one narrow-phase update.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct NarrowCounts {
+pub(crate) struct NarrowCounts {
     /// Pairs given to a contact routine.
-    pub pairs_tested: usize,
+    pub(crate) pairs_tested: usize,
     /// Pairs whose last manifold was moved with the bodies instead (`manifold_refresh`).
-    pub refreshed: usize,
+    pub(crate) refreshed: usize,
     /// Manifolds with at least one point.
-    pub manifolds: usize,
+    pub(crate) manifolds: usize,
     /// Contact points in all manifolds.
-    pub contacts: usize,
+    pub(crate) contacts: usize,
     /// Pairs of shapes with no contact routine (two half-spaces).
-    pub unsupported: usize,
+    pub(crate) unsupported: usize,
 }
 
 /// The narrow phase and its persistent manifolds.
 #[derive(Clone, Debug, Default)]
 pub struct NarrowPhase {
     /// Manifolds of the last update, sorted by pair key.
-    pub manifolds: Vec<Manifold>,
+    pub(crate) manifolds: Vec<Manifold>,
     old: Vec<Manifold>,
     /// The compounds' parts posed in the world for the current update.
     posed: PosedParts,
@@ -66,17 +66,23 @@ const ROOM: usize = 64;
 #[derive(Clone, Copy, Debug)]
 pub struct BodyMotion<'a> {
     /// The step (s).
-    pub dt: f64,
+    pub(crate) dt: f64,
     /// Velocity of each body's origin, world (m/s).
-    pub vel: &'a [V3],
+    pub(crate) vel: &'a [V3],
     /// Angular velocity of each body, world (rad/s).
-    pub omega: &'a [V3],
+    pub(crate) omega: &'a [V3],
 }
 
 impl BodyMotion<'_> {
     /// How far any point within `radius` of world point `centre` on body `i` moves over the
     /// step (m): `dt (|v + ω × (centre − origin)| + |ω| radius)`.
-    pub fn sweep(&self, bodies: &CollisionBodies<'_>, i: usize, centre: &V3, radius: f64) -> f64 {
+    pub(crate) fn sweep(
+        &self,
+        bodies: &CollisionBodies<'_>,
+        i: usize,
+        centre: &V3,
+        radius: f64,
+    ) -> f64 {
         let (v, w) = (self.vel[i], self.omega[i]);
         self.dt * ((v + w.cross(&(centre - bodies.pos[i]))).norm() + w.norm() * radius)
     }
@@ -342,7 +348,7 @@ impl NarrowPhase {
     /// distance grows by how far each side can move over the step: for each part of a
     /// compound, by its own motion (a rod's bar spinning in its wall slot moves by the bar's
     /// radius times the turn, not by its men's reach).
-    pub fn update(
+    pub(crate) fn update(
         &mut self,
         bodies: &CollisionBodies<'_>,
         pairs: &[u64],
@@ -656,7 +662,7 @@ impl NarrowPhase {
     }
 
     /// Forgets every manifold.
-    pub fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         self.manifolds.clear();
         self.old.clear();
     }

@@ -7,7 +7,14 @@
 use super::{Manifold, M3, V3};
 
 /// Sphere–sphere.
-pub fn sphere_sphere(pa: &V3, ra: f64, pb: &V3, rb: f64, margin: f64, out: &mut Manifold) -> bool {
+pub(crate) fn sphere_sphere(
+    pa: &V3,
+    ra: f64,
+    pb: &V3,
+    rb: f64,
+    margin: f64,
+    out: &mut Manifold,
+) -> bool {
     out.len = 0;
     let d = pb - pa;
     let dist = d.norm();
@@ -55,7 +62,7 @@ fn box_closest(r: &M3, p: &V3, half: &V3, c: &V3) -> (V3, V3, f64) {
 }
 
 /// Box (A) – sphere (B).
-pub fn box_sphere(
+pub(crate) fn box_sphere(
     r: &M3,
     p: &V3,
     half: &V3,
@@ -129,7 +136,7 @@ fn plane_points(n: &V3, o: f64, pts: &[V3], radius: f64, margin: f64, out: &mut 
 }
 
 /// Half-space (A) – box (B): the corners of the face turned towards the plane.
-pub fn plane_box(
+pub(crate) fn plane_box(
     n: &V3,
     o: f64,
     r: &M3,
@@ -161,13 +168,20 @@ pub fn plane_box(
 }
 
 /// Half-space (A) – sphere (B).
-pub fn plane_sphere(n: &V3, o: f64, c: &V3, radius: f64, margin: f64, out: &mut Manifold) -> bool {
+pub(crate) fn plane_sphere(
+    n: &V3,
+    o: f64,
+    c: &V3,
+    radius: f64,
+    margin: f64,
+    out: &mut Manifold,
+) -> bool {
     plane_points(n, o, std::slice::from_ref(c), radius, margin, out)
 }
 
 /// Half-space (A) – capsule (B): the two segment ends.
 #[allow(clippy::too_many_arguments)]
-pub fn plane_capsule(
+pub(crate) fn plane_capsule(
     n: &V3,
     o: f64,
     r: &M3,
@@ -183,7 +197,7 @@ pub fn plane_capsule(
 
 /// Half-space (A) – cylinder (B): 8 points on each cap rim.
 #[allow(clippy::too_many_arguments)]
-pub fn plane_cylinder(
+pub(crate) fn plane_cylinder(
     n: &V3,
     o: f64,
     r: &M3,
@@ -261,7 +275,7 @@ fn segment_segment(p0: &V3, p1: &V3, q0: &V3, q1: &V3) -> (V3, V3) {
 
 /// Capsule (A) – sphere (B).
 #[allow(clippy::too_many_arguments)]
-pub fn capsule_sphere(
+pub(crate) fn capsule_sphere(
     r: &M3,
     p: &V3,
     radius: f64,
@@ -278,7 +292,7 @@ pub fn capsule_sphere(
 
 /// Capsule (A) – capsule (B).
 #[allow(clippy::too_many_arguments)]
-pub fn capsule_capsule(
+pub(crate) fn capsule_capsule(
     ra: &M3,
     pa: &V3,
     rad_a: f64,
@@ -396,7 +410,7 @@ fn segment_in_box(a: &V3, b: &V3, half: &V3) -> Option<(f64, f64)> {
 /// deepest point where it lies deeper than those three (a capsule across an edge of the
 /// box); the deepest point's normal is the manifold's.
 #[allow(clippy::too_many_arguments)]
-pub fn box_capsule(
+pub(crate) fn box_capsule(
     r: &M3,
     p: &V3,
     half: &V3,
@@ -459,7 +473,7 @@ pub fn box_capsule(
 
 /// Closest point of the solid cylinder `(r, p, radius, hh)` to `c`: (surface point, outward
 /// normal, signed distance of `c`, negative inside), world frame.
-pub fn cylinder_closest(r: &M3, p: &V3, radius: f64, hh: f64, c: &V3) -> (V3, V3, f64) {
+pub(crate) fn cylinder_closest(r: &M3, p: &V3, radius: f64, hh: f64, c: &V3) -> (V3, V3, f64) {
     let cl = r.tr_mul(&(c - p));
     let rho = (cl.x * cl.x + cl.y * cl.y).sqrt();
     let radial = if rho > 1e-12 {
@@ -493,7 +507,7 @@ pub fn cylinder_closest(r: &M3, p: &V3, radius: f64, hh: f64, c: &V3) -> (V3, V3
 
 /// Cylinder (A) – sphere (B): closest point of the solid cylinder to the centre.
 #[allow(clippy::too_many_arguments)]
-pub fn cylinder_sphere(
+pub(crate) fn cylinder_sphere(
     r: &M3,
     p: &V3,
     radius: f64,
@@ -515,7 +529,7 @@ pub fn cylinder_sphere(
 }
 
 /// A convex shape for the probing fallback: its closest-point query and its feature points.
-pub enum Probe<'a> {
+pub(crate) enum Probe<'a> {
     /// Box `(r, p, half)`.
     Cuboid(&'a M3, &'a V3, &'a V3),
     /// Capsule `(r, p, radius, half_height)`.
@@ -590,7 +604,7 @@ impl Probe<'_> {
 /// deepest probe gives the normal (A to B), probes agreeing with it (within ~25°) give up to
 /// 4 points. Approximate: exact for the resting and face cases, it can miss the deepest
 /// point of an edge crossing a cylinder side between probes.
-pub fn probe_pair(a: &Probe, b: &Probe, margin: f64, out: &mut Manifold) -> bool {
+pub(crate) fn probe_pair(a: &Probe, b: &Probe, margin: f64, out: &mut Manifold) -> bool {
     out.len = 0;
     let mut cand = [(V3::zeros(), V3::zeros(), 0.0); 48];
     let mut m = 0;

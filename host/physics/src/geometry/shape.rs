@@ -52,7 +52,7 @@ pub struct Aabb {
     /// Lower corner.
     pub min: V3,
     /// Upper corner.
-    pub max: V3,
+    pub(crate) max: V3,
 }
 
 impl Aabb {
@@ -69,7 +69,7 @@ impl Aabb {
 
     /// Whether `o` lies within this box (closed).
     #[inline]
-    pub fn contains(&self, o: &Aabb) -> bool {
+    pub(crate) fn contains(&self, o: &Aabb) -> bool {
         self.min.x <= o.min.x
             && self.min.y <= o.min.y
             && self.min.z <= o.min.z
@@ -80,7 +80,7 @@ impl Aabb {
 
     /// Grown by `m` on every side.
     #[inline]
-    pub fn loosened(&self, m: f64) -> Aabb {
+    pub(crate) fn loosened(&self, m: f64) -> Aabb {
         let d = V3::new(m, m, m);
         Aabb {
             min: self.min - d,
@@ -115,7 +115,7 @@ impl Shape {
     }
 
     /// Principal moments of inertia about the centre, body axes, for mass `m` (kg·m²).
-    pub fn principal_inertia(&self, m: f64) -> V3 {
+    pub(crate) fn principal_inertia(&self, m: f64) -> V3 {
         match *self {
             Shape::Cuboid { half } => {
                 let (x2, y2, z2) = (
@@ -213,7 +213,7 @@ impl Shape {
     /// body turns about that line. A compound's parts count by their distance from the line
     /// (a foosball rod spinning about its bar sweeps its men's reach, not its length); other
     /// shapes give their bounding radius.
-    pub fn reach_about(&self, axis: &V3) -> f64 {
+    pub(crate) fn reach_about(&self, axis: &V3) -> f64 {
         match self {
             Shape::Compound(c) => c
                 .parts()
@@ -225,7 +225,7 @@ impl Shape {
     }
 
     /// The smallest half-dimension (m): how thin the shape is (for continuous collision).
-    pub fn thinness(&self) -> f64 {
+    pub(crate) fn thinness(&self) -> f64 {
         match *self {
             Shape::Cuboid { half } => half.min(),
             Shape::Sphere { radius } | Shape::Capsule { radius, .. } => radius,

@@ -25,7 +25,7 @@ use super::{Shape, M3, V3};
 
 /// How close to the surface (m) the cylinder's advancement stops: the sphere at the
 /// returned time is at most this far from touching.
-pub const CYLINDER_TOLERANCE: f64 = 1e-10;
+pub(crate) const CYLINDER_TOLERANCE: f64 = 1e-10;
 
 /// Conservative advancement steps on a cylinder before the bracketing search takes over.
 const ADVANCE_STEPS: usize = 24;
@@ -34,14 +34,14 @@ const ADVANCE_STEPS: usize = 24;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Impact {
     /// Fraction of the step at which the sphere first touches, in `[0, 1]` (–).
-    pub t: f64,
+    pub(crate) t: f64,
     /// Unit normal at the impact, world, from the target towards the sphere's centre.
-    pub normal: V3,
+    pub(crate) normal: V3,
     /// The touching point on the target's surface at time `t` (m, world; the target posed
     /// where it is at `t`).
-    pub point: V3,
+    pub(crate) point: V3,
     /// Part of a compound target that is hit (0 for a primitive).
-    pub part: u16,
+    pub(crate) part: u16,
 }
 
 /// First time in `[0, 1]` at which a sphere of `radius` (m) whose centre moves from `c0` by

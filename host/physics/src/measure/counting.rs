@@ -13,13 +13,13 @@ use num_traits::{One, Zero};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct OpCounts {
     /// Multiplications.
-    pub mul: u64,
+    pub(crate) mul: u64,
     /// Additions and subtractions.
-    pub add: u64,
+    pub(crate) add: u64,
     /// Divisions.
-    pub div: u64,
+    pub(crate) div: u64,
     /// Square roots and trigonometric functions.
-    pub func: u64,
+    pub(crate) func: u64,
 }
 
 thread_local! {
@@ -66,7 +66,7 @@ pub struct Counted {
 
 impl Counted {
     /// Wraps a value (not a literal: its operations count).
-    pub fn new(v: f64) -> Self {
+    pub(crate) fn new(v: f64) -> Self {
         Self { v, unit: false }
     }
 

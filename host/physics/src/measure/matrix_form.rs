@@ -2,23 +2,13 @@
 //! nalgebra's `Matrix6` (spatial-algebra style, Eq. 5 and Eq. 7), generic over the scalar so
 //! that they are counted and timed exactly like the geometric form.
 
-use crate::algebra::{dse3, se3, skew, AInertia, Inertia, Mat3, SE3};
+use crate::algebra::{se3, skew, AInertia, Inertia, Mat3, SE3};
 use crate::Real;
 use nalgebra::{Matrix6, Vector6};
 
 /// A twist or wrench as a 6-vector (angular / moment part first).
 pub fn vec6_of_twist<T: Real>(v: &se3<T>) -> Vector6<T> {
     Vector6::from_column_slice(&v.to_array())
-}
-
-/// A 6-vector as a wrench.
-pub fn wrench_of_vec6<T: Real>(x: &Vector6<T>) -> dse3<T> {
-    dse3::from_array([x[0], x[1], x[2], x[3], x[4], x[5]])
-}
-
-/// A 6-vector as a twist.
-pub fn twist_of_vec6<T: Real>(x: &Vector6<T>) -> se3<T> {
-    se3::from_array([x[0], x[1], x[2], x[3], x[4], x[5]])
 }
 
 fn blocks<T: Real>(a: &Mat3<T>, b: &Mat3<T>, c: &Mat3<T>, d: &Mat3<T>) -> Matrix6<T> {
@@ -37,14 +27,14 @@ pub fn ad_matrix<T: Real>(t: &SE3<T>) -> Matrix6<T> {
 }
 
 /// The 6×6 matrix of `Ad_{T⁻¹} = [[Rᵀ, 0], [−Rᵀ[p], Rᵀ]]` (Featherstone's `ᵢX_{i−1}`).
-pub fn ad_inv_matrix<T: Real>(t: &SE3<T>) -> Matrix6<T> {
+pub(crate) fn ad_inv_matrix<T: Real>(t: &SE3<T>) -> Matrix6<T> {
     let rt = t.r.transpose();
     let rp = -(rt * skew(&t.p));
     blocks(&rt, &Mat3::zeros(), &rp, &rt)
 }
 
 /// The 6×6 matrix of `ad_V = [[[w], 0], [[v], [w]]]` (no arithmetic to build).
-pub fn small_ad_matrix<T: Real>(v: &se3<T>) -> Matrix6<T> {
+pub(crate) fn small_ad_matrix<T: Real>(v: &se3<T>) -> Matrix6<T> {
     let w = skew(&v.w);
     blocks(&w, &Mat3::zeros(), &skew(&v.v), &w)
 }

@@ -8,19 +8,19 @@ use crate::Real;
 #[derive(Clone, Debug)]
 pub struct Body<T: Real> {
     /// Name (for messages and the JSON description).
-    pub name: String,
+    pub(crate) name: String,
     /// Index of the parent body; `None`: attached to the fixed world frame.
-    pub parent: Option<usize>,
+    pub(crate) parent: Option<usize>,
     /// `M_i`: pose of the joint frame in the parent's body frame (or the world frame).
-    pub placement: SE3<T>,
+    pub(crate) placement: SE3<T>,
     /// The joint to the parent.
-    pub joint: Box<dyn Joint<T>>,
+    pub(crate) joint: Box<dyn Joint<T>>,
     /// Inertia in the body frame.
-    pub inertia: Inertia<T>,
+    pub(crate) inertia: Inertia<T>,
     /// Offset of this joint's coordinates in the configuration vector `q`.
-    pub q_offset: usize,
+    pub(crate) q_offset: usize,
     /// Offset of this joint's velocity coordinates in `q̇`, `q̈`, `τ`.
-    pub v_offset: usize,
+    pub(crate) v_offset: usize,
     /// `joint.nq()`, cached (the recursions ask for it per body and per pass).
     pub(crate) nq: usize,
     /// `joint.nv()`, cached.
@@ -30,13 +30,13 @@ pub struct Body<T: Real> {
 impl<T: Real> Body<T> {
     /// Number of configuration coordinates of the joint.
     #[inline]
-    pub fn nq(&self) -> usize {
+    pub(crate) fn nq(&self) -> usize {
         self.nq
     }
 
     /// Degrees of freedom of the joint.
     #[inline]
-    pub fn nv(&self) -> usize {
+    pub(crate) fn nv(&self) -> usize {
         self.nv
     }
 }

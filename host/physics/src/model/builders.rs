@@ -3,24 +3,28 @@
 //! Every number is rounded to a few decimals (or is an exact rotation entry) so the JSON is
 //! short and both sides read the same values. Deterministic: a fixed-seed generator.
 
+use rand_core::{RngCore, SeedableRng};
+use rand_xoshiro::SplitMix64;
+
 use super::description::{
     BodyDescription, InertiaDescription, JointDescription, ModelDescription, PlacementDescription,
 };
 
 /// Gravity of every reference model (m/s², world frame).
-pub const GRAVITY: [f64; 3] = [0.0, 0.0, -9.81];
+pub(crate) const GRAVITY: [f64; 3] = [0.0, 0.0, -9.81];
 
-/// SplitMix64: a tiny deterministic generator (no dependency needed).
-struct Rng(u64);
+/// The builders' fixed-seed generator: `rand_xoshiro`'s SplitMix64, as the game's and the
+/// emulator's generators are.
+struct Rng(SplitMix64);
 
 impl Rng {
+    fn new(seed: u64) -> Self {
+        Self(SplitMix64::seed_from_u64(seed))
+    }
+
+    /// Uniform in `[0, 1)`, from the top 53 bits.
     fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
+        (self.0.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
 
     /// Uniform in `[a, b]`, rounded to 1e-4.
@@ -83,7 +87,7 @@ const Z: [f64; 3] = [0.0, 0.0, 1.0];
 
 /// A serial chain of `n` revolute links whose axes alternate x, y, z; links 0.25 m long.
 pub fn chain(n: usize) -> ModelDescription {
-    let mut rng = Rng(0x5eed_0000 + n as u64);
+    let mut rng = Rng::new(0x5eed_0000 + n as u64);
     let bodies = (0..n)
         .map(|k| BodyDescription {
             name: format!("link{k}"),
@@ -139,7 +143,7 @@ impl TreeBuilder {
 /// rotated relative to their parents.
 pub fn humanoid() -> ModelDescription {
     let mut t = TreeBuilder {
-        rng: Rng(0x4855_4d41),
+        rng: Rng::new(0x4855_4d41),
         bodies: Vec::new(),
     };
     let rev = |a| axis_joint("revolute", a);
@@ -273,7 +277,7 @@ pub fn humanoid() -> ModelDescription {
 /// 10⁻² and 10² (a 1:10⁴ ratio between neighbours), with revolute, prismatic and ball joints.
 pub fn mass_ratio() -> ModelDescription {
     let mut t = TreeBuilder {
-        rng: Rng(0x4d41_5353),
+        rng: Rng::new(0x4d41_5353),
         bodies: Vec::new(),
     };
     let scale = |k: usize| if k % 2 == 0 { 1e2 } else { 1e-2 };
@@ -331,7 +335,7 @@ pub fn random_state(
     tree: &super::ArticulatedTree<f64>,
     seed: u64,
 ) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let mut rng = Rng(seed);
+    let mut rng = Rng::new(seed);
     let mut u = |a: f64, b: f64| a + (b - a) * rng.next();
     let mut q = Vec::with_capacity(tree.nq());
     for b in tree.bodies() {

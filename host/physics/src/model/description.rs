@@ -23,11 +23,11 @@ use crate::Real;
 
 /// A rigid transform: row-major rotation and translation (m).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PlacementDescription {
+pub(crate) struct PlacementDescription {
     /// Rotation matrix, rows.
-    pub rotation: [[f64; 3]; 3],
+    pub(crate) rotation: [[f64; 3]; 3],
     /// Translation (m).
-    pub translation: [f64; 3],
+    pub(crate) translation: [f64; 3],
 }
 
 /// Mass properties.
@@ -45,13 +45,13 @@ pub struct InertiaDescription {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BodyDescription {
     /// Name.
-    pub name: String,
+    pub(crate) name: String,
     /// Parent body index, `None` for the world.
     pub parent: Option<usize>,
     /// The joint to the parent.
     pub joint: JointDescription,
     /// Joint frame in the parent frame.
-    pub placement: PlacementDescription,
+    pub(crate) placement: PlacementDescription,
     /// Mass properties in the body frame.
     pub inertia: InertiaDescription,
 }

@@ -9,13 +9,13 @@ use serde::{Deserialize, Serialize};
 pub struct JointDescription {
     /// Type name (`revolute`, `prismatic`, `cylindrical`, `universal`, `ball`, `free`, `fixed`).
     #[serde(rename = "type")]
-    pub kind: String,
+    pub(crate) kind: String,
     /// The (first) axis, joint frame.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axis: Option<[f64; 3]>,
     /// The second axis (universal joint).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axis2: Option<[f64; 3]>,
+    pub(crate) axis2: Option<[f64; 3]>,
 }
 
 impl JointDescription {
@@ -29,7 +29,7 @@ impl JointDescription {
     }
 
     /// A joint type with one axis.
-    pub fn with_axis(kind: &str, axis: [f64; 3]) -> Self {
+    pub(crate) fn with_axis(kind: &str, axis: [f64; 3]) -> Self {
         Self {
             axis: Some(axis),
             ..Self::new(kind)

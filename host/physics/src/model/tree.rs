@@ -43,7 +43,7 @@ impl<T: Real> ArticulatedTree<T> {
     }
 
     /// As [`ArticulatedTree::add_body`] with an already boxed joint.
-    pub fn add_boxed(
+    pub(crate) fn add_boxed(
         &mut self,
         name: impl Into<String>,
         parent: Option<usize>,
@@ -88,7 +88,7 @@ impl<T: Real> ArticulatedTree<T> {
 
     /// The bodies, parents first.
     #[inline]
-    pub fn bodies(&self) -> &[Body<T>] {
+    pub(crate) fn bodies(&self) -> &[Body<T>] {
         &self.bodies
     }
 
@@ -118,12 +118,12 @@ impl<T: Real> ArticulatedTree<T> {
 
     /// Gravity (m/s², world frame).
     #[inline]
-    pub fn gravity(&self) -> Vec3<T> {
+    pub(crate) fn gravity(&self) -> Vec3<T> {
         self.gravity
     }
 
     /// Sets the gravity (m/s², world frame).
-    pub fn set_gravity(&mut self, g: Vec3<T>) {
+    pub(crate) fn set_gravity(&mut self, g: Vec3<T>) {
         self.gravity = g;
     }
 

@@ -474,7 +474,7 @@ impl ArticulatedSystem {
 /// Reading and setting the state.
 impl ArticulatedSystem {
     /// The model (bodies, joints, inertias).
-    pub fn model(&self) -> &ArticulatedTree<f64> {
+    pub(crate) fn model(&self) -> &ArticulatedTree<f64> {
         &self.tree
     }
 
@@ -545,7 +545,7 @@ impl ArticulatedSystem {
     }
 
     /// Whether any link carries a collision shape.
-    pub fn has_shapes(&self) -> bool {
+    pub(crate) fn has_shapes(&self) -> bool {
         !self.link_shapes.is_empty()
     }
 

@@ -35,7 +35,7 @@ pub struct BodyBuilder {
 impl BodyBuilder {
     /// A body of `kind` with a primitive `shape` (a compound shape is allowed too, taken as
     /// already in its principal frame), at the origin, at rest.
-    pub fn new(kind: BodyKind, shape: Shape) -> Self {
+    pub(crate) fn new(kind: BodyKind, shape: Shape) -> Self {
         Self {
             name: String::new(),
             kind,

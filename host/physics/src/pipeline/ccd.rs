@@ -61,13 +61,13 @@ pub(crate) const SWEEP_TOLERANCE_M: f64 = 1e-9;
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct SweepSettings {
     /// Step (s).
-    pub dt: f64,
+    pub(crate) dt: f64,
     /// Substep (s).
-    pub substep: f64,
+    pub(crate) substep: f64,
     /// Gravity (m/s², world), zero without the gravity effect.
-    pub gravity: V3,
+    pub(crate) gravity: V3,
     /// Restitution threshold (m/s), or `None` without the restitution effect.
-    pub restitution_threshold: Option<f64>,
+    pub(crate) restitution_threshold: Option<f64>,
 }
 
 /// Where a fast ball's path, followed through two or more impacts on fixed shapes, ends
@@ -75,11 +75,11 @@ pub(crate) struct SweepSettings {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BallPath {
     /// The ball (body index).
-    pub ball: usize,
+    pub(crate) ball: usize,
     /// Centre at the end of the step (m, world).
-    pub pos: V3,
+    pub(crate) pos: V3,
     /// Velocity at the end of the step (m/s, world).
-    pub vel: V3,
+    pub(crate) vel: V3,
 }
 
 /// One shape (a part of a compound) a ball has a manifold with, posed at the start of the

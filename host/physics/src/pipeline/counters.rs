@@ -33,7 +33,7 @@ pub enum Stage {
 
 impl Stage {
     /// All stages.
-    pub const ALL: [Stage; 13] = [
+    pub(crate) const ALL: [Stage; 13] = [
         Stage::Gravity,
         Stage::BroadPhase,
         Stage::NarrowPhase,
@@ -76,7 +76,7 @@ pub struct StepCounters {
     /// Box overlap tests in the broad phase.
     pub broad_phase_tests: usize,
     /// Candidate pairs from the broad phase.
-    pub broad_phase_pairs: usize,
+    pub(crate) broad_phase_pairs: usize,
     /// Pairs given to a narrow-phase routine.
     pub pairs_tested: usize,
     /// Pairs of resting boxes whose manifold was moved with the bodies instead of collided
@@ -102,13 +102,13 @@ pub struct StepCounters {
     /// Contact points that received a restitution impulse check.
     pub restitution_constraints: usize,
     /// Two-body impacts passed along touching contacts before the solve.
-    pub touching_impacts: usize,
+    pub(crate) touching_impacts: usize,
     /// ABA calls.
     pub articulated_solves: usize,
     /// Bodies simulated (awake dynamic).
     pub awake_bodies: usize,
     /// Islands found (with sleeping on).
-    pub islands: usize,
+    pub(crate) islands: usize,
     /// Substeps taken by the islands whose contacts would lean, where they take more than the
     /// step's (0: none this step).
     pub fine_substeps: usize,
@@ -120,7 +120,7 @@ pub struct StepCounters {
 impl StepCounters {
     /// Marks a stage as run.
     #[inline]
-    pub fn mark(&mut self, s: Stage) {
+    pub(crate) fn mark(&mut self, s: Stage) {
         self.stages |= 1 << s as u32;
     }
 
@@ -135,7 +135,7 @@ impl StepCounters {
     }
 
     /// Clears everything.
-    pub fn reset(&mut self) {
+    pub(crate) fn reset(&mut self) {
         *self = Self::default();
     }
 }

@@ -64,7 +64,7 @@ impl Effect {
     }
 
     /// Effects this one needs declared too.
-    pub fn requires(self) -> &'static [Effect] {
+    pub(crate) fn requires(self) -> &'static [Effect] {
         match self {
             Effect::Friction
             | Effect::Restitution
@@ -81,7 +81,7 @@ pub struct Effects(u32);
 
 impl Effects {
     /// No effect.
-    pub fn none() -> Self {
+    pub(crate) fn none() -> Self {
         Self(0)
     }
 
@@ -106,7 +106,7 @@ impl Effects {
 
     /// Whether `e` is declared.
     #[inline]
-    pub fn has(&self, e: Effect) -> bool {
+    pub(crate) fn has(&self, e: Effect) -> bool {
         self.0 & (1 << e as u32) != 0
     }
 

@@ -32,7 +32,7 @@ pub struct LinkHandle {
     /// The tree.
     pub tree: TreeHandle,
     /// Index of the link in the tree's model.
-    pub link: u32,
+    pub(crate) link: u32,
 }
 
 impl TreeHandle {

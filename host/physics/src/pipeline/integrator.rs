@@ -102,11 +102,11 @@ impl std::fmt::Display for IntegratorKind {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FreeForces {
     /// Gravity (m/s², world); zero without the `gravity` effect.
-    pub gravity: V3,
+    pub(crate) gravity: V3,
     /// Whether the gyroscopic term `−ω × Iω` is part of the model (`gyroscopic` effect).
-    pub gyroscopic: bool,
+    pub(crate) gyroscopic: bool,
     /// Velocity factors `(linear, angular)` applied after the update (`damping` effect).
-    pub damping: Option<(f64, f64)>,
+    pub(crate) damping: Option<(f64, f64)>,
 }
 
 /// A free-body integrator with its per-body scratch (what the velocity stage leaves for the
@@ -114,7 +114,7 @@ pub struct FreeForces {
 #[derive(Clone, Debug, Default)]
 pub struct FreeIntegrator {
     /// The selected kind.
-    pub kind: IntegratorKind,
+    pub(crate) kind: IntegratorKind,
     /// Free (unconstrained) change of the linear velocity over the substep (m/s, world).
     dv: Vec<V3>,
     /// Angular velocity the velocity stage left (rad/s, world): the solver's change is
@@ -138,11 +138,11 @@ pub struct FreeIntegrator {
 /// ([`orthonormalize`]). Measured without it (tumbling box, 1 ms, 10⁶ steps): `|RᵀR − I|`
 /// reaches 1.3e-12 with semi-implicit Euler and 2e-13 with the others; with it it stays at
 /// rounding level. Amortised cost: one 3×3 product pair per body every 256 substeps.
-pub const ORTHONORMALIZE_PERIOD: u32 = 256;
+pub(crate) const ORTHONORMALIZE_PERIOD: u32 = 256;
 
 /// The energy-momentum midpoint solve stops when an update is below this fraction of `|Π|`
 /// (the error left is smaller by the contraction factor, < 1e-3 up to 1/30 s).
-pub const MIDPOINT_TOLERANCE: f64 = 1e-8;
+pub(crate) const MIDPOINT_TOLERANCE: f64 = 1e-8;
 /// At most this many chord-Newton iterations.
 const MIDPOINT_MAX_ITERATIONS: usize = 20;
 
@@ -153,7 +153,7 @@ fn skew(a: &V3) -> M3 {
 /// One Newton–Schulz step towards the nearest rotation, `R ← R (3I − RᵀR)/2`: quadratic
 /// convergence, so a rotation with error `ε` (in `RᵀR − I`) comes back with error `~ε²`.
 #[inline]
-pub fn orthonormalize(r: &M3) -> M3 {
+pub(crate) fn orthonormalize(r: &M3) -> M3 {
     let e = r.tr_mul(r);
     r * (M3::identity() * 1.5 - e * 0.5)
 }
@@ -161,7 +161,7 @@ pub fn orthonormalize(r: &M3) -> M3 {
 /// The Cayley map `cay(a) = (I − â/2)⁻¹(I + â/2) = I + 4/(4 + |a|²)(â + â²/2)` (exactly
 /// orthogonal; rotation by `2 atan(|a|/2)` about `a`).
 #[inline]
-pub fn cayley(a: &V3) -> M3 {
+pub(crate) fn cayley(a: &V3) -> M3 {
     // â² = a aᵀ − |a|² I, written out: 9 products instead of a 3×3 matrix product.
     let n2 = a.norm_squared();
     let k = 4.0 / (4.0 + n2);
@@ -187,7 +187,7 @@ pub fn cayley(a: &V3) -> M3 {
 /// and `Ṙ = R ω̂` (body angular velocity `ω`):
 /// `J_r⁻¹(θ) ω = ω + ½ θ×ω + c(|θ|) θ×(θ×ω)`, `c = 1/θ² − (1+cos θ)/(2θ sin θ)` (→ 1/12).
 #[inline]
-pub fn dexp_inv_right(theta: &V3, w: &V3) -> V3 {
+pub(crate) fn dexp_inv_right(theta: &V3, w: &V3) -> V3 {
     let t2 = theta.norm_squared();
     let c = if t2 < 1e-4 {
         1.0 / 12.0 + t2 * (1.0 / 720.0 + t2 / 30240.0)
@@ -212,7 +212,7 @@ fn euler_rhs(w: &V3, i: &V3, inv_i: &V3, tau_b: &V3, gyro: bool) -> V3 {
 
 impl FreeIntegrator {
     /// An integrator of `kind`.
-    pub fn new(kind: IntegratorKind) -> Self {
+    pub(crate) fn new(kind: IntegratorKind) -> Self {
         Self {
             kind,
             ..Self::default()
@@ -233,7 +233,7 @@ impl FreeIntegrator {
 
     /// The velocity stage over `h` seconds: the awake dynamic bodies' `vel` and `omega`
     /// become the velocities the solver then corrects.
-    pub fn integrate_velocities(&mut self, b: &mut BodySet, h: f64, f: &FreeForces) {
+    pub(crate) fn integrate_velocities(&mut self, b: &mut BodySet, h: f64, f: &FreeForces) {
         match self.kind {
             IntegratorKind::SymplecticEuler => symplectic_velocities(b, h, f),
             IntegratorKind::ImplicitGyroscopic => implicit_gyroscopic_velocities(b, h, f),
@@ -364,7 +364,7 @@ impl FreeIntegrator {
     }
 
     /// The pose stage over `h` seconds, after the solve; adds the change to `dp` and `dtheta`.
-    pub fn integrate_positions(&mut self, b: &mut BodySet, h: f64) {
+    pub(crate) fn integrate_positions(&mut self, b: &mut BodySet, h: f64) {
         self.positions(b, h, true);
     }
 

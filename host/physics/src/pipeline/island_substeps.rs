@@ -36,20 +36,20 @@ use crate::geometry::{Manifold, V3};
 
 /// The elastic lean (m) that an island's contacts may give its top at the step's substep:
 /// a tenth of the centimetre a resting stack is allowed to move (`tests/stacking.rs`).
-pub const LEAN_TOLERANCE: f64 = 1e-3;
+pub(crate) const LEAN_TOLERANCE: f64 = 1e-3;
 
 /// A contact whose normal is within 45° of the vertical supports the body on top (–).
 const SUPPORT_COSINE: f64 = std::f64::consts::FRAC_1_SQRT_2;
 
 /// Largest stiffness factor of an island's contacts, and so of its substeps for each of the
 /// step's (–).
-pub const MAX_SUBSTEP_FACTOR: usize = 8;
+pub(crate) const MAX_SUBSTEP_FACTOR: usize = 8;
 
 /// How long (s) an island keeps a factor after its loads last asked for it. The loads answer
 /// the stiffness (stiffer contacts carry a stack's load more evenly), so a factor taken on the
 /// loads of one step alone would alternate between two values step after step, and each
 /// change of stiffness shakes the stack.
-pub const FACTOR_HOLD_TIME: f64 = 0.5;
+pub(crate) const FACTOR_HOLD_TIME: f64 = 0.5;
 
 /// The plan's buffers, kept between steps.
 #[derive(Clone, Debug, Default)]
@@ -117,19 +117,19 @@ impl Default for Column {
 /// What the world tells the plan about the step.
 pub(crate) struct StepLoads<'a> {
     /// The contacts' stiffness at the step's substep.
-    pub stiffness: &'a ContactStiffness,
+    pub(crate) stiffness: &'a ContactStiffness,
     /// Unit vector against gravity.
-    pub up: V3,
+    pub(crate) up: V3,
     /// Gravity's magnitude (m/s²).
-    pub gravity: f64,
+    pub(crate) gravity: f64,
     /// The step's manifolds (for the bodies that touch tree links).
-    pub manifolds: &'a [Manifold],
+    pub(crate) manifolds: &'a [Manifold],
     /// Body pairs joined by a joint.
-    pub joint_pairs: &'a [(usize, usize)],
+    pub(crate) joint_pairs: &'a [(usize, usize)],
     /// Per body, whether it stands for a tree link.
-    pub proxies: &'a [Option<Proxy>],
+    pub(crate) proxies: &'a [Option<Proxy>],
     /// The step (s).
-    pub dt: f64,
+    pub(crate) dt: f64,
 }
 
 /// What a step's loads are read from: the world's manifolds, its joints' body pairs and its

@@ -9,15 +9,15 @@ use crate::geometry::Manifold;
 use super::union_find::UnionFind;
 
 /// Seconds of rest before an island sleeps.
-pub const TIME_TO_SLEEP: f64 = 0.5;
+pub(crate) const TIME_TO_SLEEP: f64 = 0.5;
 /// Speed below which a body counts as resting (m/s).
-pub const LINEAR_SLEEP_SPEED: f64 = 0.05;
+pub(crate) const LINEAR_SLEEP_SPEED: f64 = 0.05;
 /// Angular speed below which a body counts as resting (rad/s).
-pub const ANGULAR_SLEEP_SPEED: f64 = 0.05;
+pub(crate) const ANGULAR_SLEEP_SPEED: f64 = 0.05;
 
 /// Union–find buffers, kept between steps.
 #[derive(Clone, Debug, Default)]
-pub struct Islands {
+pub(crate) struct Islands {
     sets: UnionFind,
     min_sleep: Vec<f64>,
 }
@@ -25,7 +25,7 @@ pub struct Islands {
 impl Islands {
     /// Updates sleep timers over `dt` (s), builds islands from touching manifolds and joint
     /// pairs, and sets `awake`. Returns the number of islands of dynamic bodies.
-    pub fn update(
+    pub(crate) fn update(
         &mut self,
         bodies: &mut BodySet,
         manifolds: &[Manifold],

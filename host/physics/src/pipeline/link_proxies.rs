@@ -6,7 +6,7 @@ use super::world::World;
 use crate::algebra::SE3;
 use crate::dynamics::{BodyKind, DynamicsError};
 use crate::geometry::{Compound, Part, V3};
-use crate::pipeline::articulated::ArticulatedSystem;
+use crate::pipeline::ArticulatedSystem;
 use crate::pipeline::{Effect, Effects};
 
 /// Whether tree `a` steps inside the constraint solve (semi-implicit Euler, substep by
@@ -150,7 +150,7 @@ mod tests {
     use crate::algebra::{Inertia, Sym3, Vec3, SE3};
     use crate::geometry::{Material, Shape, V3};
     use crate::model::{ArticulatedTree, Revolute};
-    use crate::pipeline::articulated::ArticulatedSystem;
+    use crate::pipeline::ArticulatedSystem;
     use crate::pipeline::{BodyBuilder, Effect, Effects, World};
 
     /// A one-link tree hinged about the horizontal `axis` at `pivot`, carrying `shape` at

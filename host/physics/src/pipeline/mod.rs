@@ -1,21 +1,21 @@
 //! The step pipeline, assembled from the scene's declared effects.
 //!
-//! * [`effects`] — the effect set a scene declares.
-//! * [`counters`] — what the last step did (stages run, pairs tested, contacts, iterations).
+//! * [`Effects`] — the effect set a scene declares.
+//! * [`StepCounters`] — what the last step did (stages run, pairs tested, contacts, iterations).
 //! * `integrator` — the five free-body integrators (semi-implicit Euler with `T ← T·Exp(hV)` by
 //!   default), selectable per scene.
 //! * `pose_lanes` — the default pose stage `T ← T·Exp(hV)`, four bodies at a time.
 //! * `islands` — contact/joint islands and sleeping.
-//! * [`articulated`] — articulated trees stepped by part 1's ABA.
-//! * [`world`] — the world and its step.
+//! * [`ArticulatedSystem`] — articulated trees stepped by part 1's ABA.
+//! * [`World`] — the world and its step.
 //! * handles ([`BodyHandle`], [`JointHandle`], [`TreeHandle`], [`LinkHandle`]) — stable names
 //!   for what the world holds, valid across inserting and removing other bodies.
 
-pub mod articulated;
+mod articulated;
 mod body_builder;
-pub mod counters;
+mod counters;
 mod drives;
-pub mod effects;
+mod effects;
 mod handles;
 mod integrator;
 mod inverse_mass;
@@ -23,7 +23,7 @@ mod islands;
 mod pose_lanes;
 mod tree_contacts;
 mod union_find;
-pub mod world;
+mod world;
 mod world_bodies;
 mod world_builder;
 mod world_contacts;
@@ -44,6 +44,7 @@ mod substep_plan;
 mod warm_start_replay;
 mod world_guard;
 
+pub use articulated::ArticulatedSystem;
 pub use body_builder::{BodyBuilder, DEFAULT_DENSITY};
 pub use counters::{Stage, StepCounters};
 pub use drives::{DriveKind, Motor, Trajectory};

@@ -43,11 +43,11 @@ use crate::pipeline::islands::{ANGULAR_SLEEP_SPEED, LINEAR_SLEEP_SPEED, TIME_TO_
 /// The sink (m) a resting world may take on fewer substeps: half the centimetre a resting
 /// stack is allowed to move (`tests/stacking.rs`), the other half left to its sideways move
 /// and to the settling of its first steps.
-pub const SINK_TOLERANCE: f64 = 5e-3;
+pub(crate) const SINK_TOLERANCE: f64 = 5e-3;
 
 /// How long (s) every body must have rested before the world takes fewer substeps: the time
 /// a body takes to fall asleep.
-pub const RESTING_TIME: f64 = TIME_TO_SLEEP;
+pub(crate) const RESTING_TIME: f64 = TIME_TO_SLEEP;
 
 /// The largest stiffness of a contact against a body that does not move on a resting
 /// world's fewer substeps, as a fraction of their rate (–). Elsewhere such a contact takes
@@ -58,7 +58,7 @@ pub const RESTING_TIME: f64 = TIME_TO_SLEEP;
 /// 0.3 (0.04–0.05 mm on 2 and 4 substeps; measured with a build switch not kept, see
 /// `docs/physics/integrators-accuracy-hard-cases.md`; hard case 12 checks the 5-box tower at rest). The step's own 12 substeps at
 /// 1/60 s keep their 240 Hz, a third of their rate.
-pub const RESTING_STATIC_CAP: f64 = 0.3;
+pub(crate) const RESTING_STATIC_CAP: f64 = 0.3;
 
 /// The largest rocking ratio ([`IslandSubsteps::rocking`]) of a column on fewer substeps
 /// (–): its weight at most half the load its contacts hold upright by Dunkerley's sum, the
@@ -66,7 +66,7 @@ pub const RESTING_STATIC_CAP: f64 = 0.3;
 /// it. (Measured on towers-1120, 20 unit cubes, with the sink held: the ratio is 0.69 on 4
 /// substeps, where the towers sway 1.1–1.2 cm with a period of 7–8 s, and 0.31 on 6, where
 /// they stay within 3 mm.)
-pub const ROCKING_MARGIN: f64 = 0.5;
+pub(crate) const ROCKING_MARGIN: f64 = 0.5;
 
 /// A contact whose normal is within 45° of the vertical supports the body on top (–).
 const SUPPORT_COSINE: f64 = std::f64::consts::FRAC_1_SQRT_2;
@@ -115,14 +115,14 @@ struct Load {
 pub(crate) struct RestingWorld<'a> {
     /// The step's loads (at its own substeps' stiffness; each candidate replaces it with its
     /// own).
-    pub loads: StepLoads<'a>,
+    pub(crate) loads: StepLoads<'a>,
     /// Whether anything but free bodies in contact is stepped: joints, articulated trees,
     /// a moving kinematic body.
-    pub more_than_contacts: bool,
+    pub(crate) more_than_contacts: bool,
     /// Whether the contacts hold back their sink (`SolverVariants::hold_sink`).
-    pub hold_sink: bool,
+    pub(crate) hold_sink: bool,
     /// The step's substeps.
-    pub substeps: usize,
+    pub(crate) substeps: usize,
 }
 
 impl RestingSubsteps {

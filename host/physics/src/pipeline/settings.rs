@@ -15,7 +15,7 @@ pub struct SolverSettings {
     /// Substeps per step.
     pub substeps: usize,
     /// Contact stiffness (Hz); capped at a quarter of the substep rate (Box2D v3's
-    /// cap; [`SolverVariants::contact_hertz_cap`]).
+    /// cap; `SolverVariants::contact_hertz_cap`).
     pub contact_hertz: f64,
     /// Contact damping ratio (–).
     pub contact_damping_ratio: f64,
@@ -62,7 +62,7 @@ pub struct SolverVariants {
     /// with a position bias of `contact_bias_rate` when false (soft is the default).
     pub soft_contacts: bool,
     /// Position error to push-out speed (1/s) of rigid contacts.
-    pub contact_bias_rate: f64,
+    pub(crate) contact_bias_rate: f64,
     /// Let a world whose free bodies all rest take a half, a third, a quarter or a sixth of
     /// `substeps` (the fewest that hold) when its contacts, at the stiffness of those fewer
     /// substeps, hold it within 5 mm of sink and 1 mm of lean, and no body stands alone on

@@ -40,7 +40,7 @@ pub(crate) fn bears_weight(m: &Manifold, up: &V3) -> bool {
 
 /// The time (s) over which the hold takes up a steady sink: a step of `dt` adds `dt /
 /// HOLD_TIME` of the overlap beyond the slop (all of it where `dt ≥ HOLD_TIME`).
-pub const HOLD_TIME: f64 = 0.25;
+pub(crate) const HOLD_TIME: f64 = 0.25;
 
 /// The hold's sums per body on top of weight-bearing contacts, kept between steps.
 #[derive(Clone, Debug, Default)]
@@ -213,7 +213,7 @@ pub(crate) fn mean_overlap(m: &Manifold) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::contact::ContactPoint;
+    use crate::geometry::ContactPoint;
 
     /// Against gravity along −z.
     const UP: V3 = V3::new(0.0, 0.0, 1.0);

@@ -211,7 +211,7 @@ impl World {
     }
 
     /// The current contact manifolds (empty without contacts).
-    pub fn manifolds(&self) -> &[crate::geometry::Manifold] {
+    pub(crate) fn manifolds(&self) -> &[crate::geometry::Manifold] {
         self.narrow.as_ref().map_or(&[], |n| &n.manifolds)
     }
 

@@ -160,7 +160,7 @@ impl BodyMut<'_> {
     }
 
     /// Wakes a sleeping dynamic body (kinematic and fixed bodies never sleep or wake).
-    pub fn wake_up(&mut self) -> &mut Self {
+    pub(crate) fn wake_up(&mut self) -> &mut Self {
         if self.set.kind[self.i] == BodyKind::Dynamic {
             self.set.awake[self.i] = true;
             self.set.sleep_time[self.i] = 0.0;

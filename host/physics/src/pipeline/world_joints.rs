@@ -158,7 +158,7 @@ impl JointBuilder {
     }
 
     /// Restitution (0 … 1) of coordinate `dof` at its limits (default 0).
-    pub fn limit_restitution(mut self, dof: usize, restitution: f64) -> Self {
+    pub(crate) fn limit_restitution(mut self, dof: usize, restitution: f64) -> Self {
         self.settings.push((dof, Setting::Restitution(restitution)));
         self
     }
@@ -410,7 +410,7 @@ impl<'w> JointRef<'w> {
     }
 
     /// The motor of `dof`, if any.
-    pub fn motor(&self, dof: usize) -> Option<Motor> {
+    pub(crate) fn motor(&self, dof: usize) -> Option<Motor> {
         self.j().drive(dof)?.motor.map(|m| Motor {
             target_position: m.target_position,
             target_velocity: m.target_velocity,
@@ -449,7 +449,7 @@ pub struct JointMut<'w> {
 
 impl JointMut<'_> {
     /// Reads the joint.
-    pub fn get(&self) -> JointRef<'_> {
+    pub(crate) fn get(&self) -> JointRef<'_> {
         JointRef {
             world: self.world,
             index: self.index,
@@ -461,7 +461,7 @@ impl JointMut<'_> {
     }
 
     /// Sets (or with `None` removes) the motor of `dof`.
-    pub fn set_motor(&mut self, dof: usize, motor: Option<Motor>) -> Result<(), JointError> {
+    pub(crate) fn set_motor(&mut self, dof: usize, motor: Option<Motor>) -> Result<(), JointError> {
         self.set(dof, Setting::Motor(motor))
     }
 

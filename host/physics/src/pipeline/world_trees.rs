@@ -3,7 +3,7 @@
 use super::world::World;
 use crate::algebra::SE3;
 use crate::geometry::V3;
-use crate::pipeline::articulated::ArticulatedSystem;
+use crate::pipeline::ArticulatedSystem;
 use crate::pipeline::{BodyHandle, LinkHandle, TreeHandle};
 
 impl World {

@@ -8,7 +8,7 @@ use crate::algebra::{exp_so3, SE3};
 use crate::dynamics::{BodyKind, BodySet, Material};
 use crate::geometry::{Compound, CompoundError, CompoundMass, PartDesc, Shape, V3};
 use crate::model::description::JointDescription;
-use crate::pipeline::articulated::ArticulatedSystem;
+use crate::pipeline::ArticulatedSystem;
 use crate::pipeline::{
     BodyHandle, Effect, Effects, JointBuilder, Motor, SolverSettings, Trajectory, World,
 };
@@ -21,7 +21,7 @@ impl ShapeDesc {
     /// The engine shape. A compound's parts get the default material and their stated mass
     /// (or density × volume, else 1 kg/m³ × volume): the geometry and the mass *ratios* of a
     /// scene's compound come from [`SceneFile::build`], which resolves named materials.
-    pub fn shape(&self) -> Shape {
+    pub(crate) fn shape(&self) -> Shape {
         match *self {
             ShapeDesc::Compound { ref parts } => {
                 compound(parts, None, |_| Material::default()).map_or_else(
@@ -108,7 +108,7 @@ impl SceneFile {
     }
 
     /// `Ok` when [`SceneFile::problems`] is empty.
-    pub fn validate(&self) -> Result<(), SceneError> {
+    pub(crate) fn validate(&self) -> Result<(), SceneError> {
         let p = self.problems();
         if p.is_empty() {
             Ok(())
@@ -118,7 +118,7 @@ impl SceneFile {
     }
 
     /// The declared effects.
-    pub fn effect_set(&self) -> Effects {
+    pub(crate) fn effect_set(&self) -> Effects {
         Effects::of(&self.effects)
     }
 
@@ -316,7 +316,7 @@ impl JointDesc {
     /// The joint's builder between bodies `a` and `b`: the model joint from `type`, `axis`
     /// and `axis2` (world axes are the joint frame's), its motors, limits and armature. An
     /// error names what the model rejects (an unknown type, a missing or zero axis).
-    pub fn builder(&self, a: BodyHandle, b: BodyHandle) -> Result<JointBuilder, String> {
+    pub(crate) fn builder(&self, a: BodyHandle, b: BodyHandle) -> Result<JointBuilder, String> {
         let description = JointDescription {
             kind: self.kind.clone(),
             axis: self.axis,

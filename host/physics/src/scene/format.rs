@@ -61,7 +61,7 @@ pub struct SceneFile {
     /// Joints between free bodies.
     /// At most 100 000.
     #[serde(default)]
-    pub joints: Vec<JointDesc>,
+    pub(crate) joints: Vec<JointDesc>,
     /// Articulated trees (part 1's model description).
     /// At most 1 000 trees, 1 000 bodies in one tree, 100 000 in all.
     #[serde(default)]
@@ -76,10 +76,10 @@ pub struct SolverDesc {
     pub substeps: i64,
     /// Contact stiffness (Hz).
     /// Range 1e-2 … 1e5 Hz.
-    pub contact_hertz: f64,
+    pub(crate) contact_hertz: f64,
     /// Approach speed below which no bounce (m/s).
     /// Range 0 … 1e3 m/s.
-    pub restitution_threshold: f64,
+    pub(crate) restitution_threshold: f64,
 }
 
 impl Default for SolverDesc {
@@ -265,33 +265,33 @@ pub struct JointDesc {
     /// `revolute`, `prismatic`, `cylindrical`, `universal`, `ball`, `free` or `fixed`. The
     /// key is `type`; `kind` is read as another name for it.
     #[serde(rename = "type", alias = "kind")]
-    pub kind: String,
+    pub(crate) kind: String,
     /// First body (name): body A, whose joint frame the coordinates are measured in.
-    pub body1: String,
+    pub(crate) body1: String,
     /// Second body (name): body B.
-    pub body2: String,
+    pub(crate) body2: String,
     /// Anchor: the joint frame's origin (m, world, at the initial poses).
     /// Each coordinate within ±1e5 m.
-    pub anchor: [f64; 3],
+    pub(crate) anchor: [f64; 3],
     /// The joint's axis (world): revolute, prismatic, cylindrical, and a universal joint's
     /// first axis (fixed in body 1).
     /// Normalised on load: its length must be 1e-6 … 1e6.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axis: Option<[f64; 3]>,
+    pub(crate) axis: Option<[f64; 3]>,
     /// A universal joint's second axis (world, fixed in body 2; not parallel to `axis`).
     /// Normalised on load: its length must be 1e-6 … 1e6.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub axis2: Option<[f64; 3]>,
+    pub(crate) axis2: Option<[f64; 3]>,
     /// Motors on the joint's coordinates (at most one per coordinate).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub motors: Vec<JointMotorDesc>,
+    pub(crate) motors: Vec<JointMotorDesc>,
     /// Travel limits of the joint's coordinates (at most one per coordinate).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub limits: Vec<JointLimitsDesc>,
+    pub(crate) limits: Vec<JointLimitsDesc>,
     /// Armature of each coordinate in order (kg·m² on an angle, kg on a slide), 0 … 1e9; at
     /// most as many entries as the joint has driven coordinates.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub armature: Vec<f64>,
+    pub(crate) armature: Vec<f64>,
 }
 
 /// A motor on one coordinate of a joint between bodies:
@@ -304,21 +304,21 @@ pub struct JointDesc {
 pub struct JointMotorDesc {
     /// Which coordinate (default 0).
     #[serde(default)]
-    pub coordinate: usize,
+    pub(crate) coordinate: usize,
     /// Target position (rad or m), within ±1e5; absent: a velocity motor.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub target_position: Option<f64>,
+    pub(crate) target_position: Option<f64>,
     /// Target velocity (rad/s or m/s), within ±1e5.
     #[serde(default)]
-    pub target_velocity: f64,
+    pub(crate) target_velocity: f64,
     /// Stiffness (N·m/rad or N/m), 0 … 1e9.
     #[serde(default)]
-    pub stiffness: f64,
+    pub(crate) stiffness: f64,
     /// Damping (N·m·s/rad or N·s/m), 0 … 1e9.
     #[serde(default)]
-    pub damping: f64,
+    pub(crate) damping: f64,
     /// Largest torque or force (N·m or N), 0 … 1e9.
-    pub max_force: f64,
+    pub(crate) max_force: f64,
 }
 
 /// Travel limits of one coordinate of a joint between bodies.
@@ -327,14 +327,14 @@ pub struct JointMotorDesc {
 pub struct JointLimitsDesc {
     /// Which coordinate (default 0).
     #[serde(default)]
-    pub coordinate: usize,
+    pub(crate) coordinate: usize,
     /// Lower limit (rad or m), within ±1e5.
-    pub lower: f64,
+    pub(crate) lower: f64,
     /// Upper limit (rad or m), within ±1e5, ≥ `lower`.
-    pub upper: f64,
+    pub(crate) upper: f64,
     /// Restitution at the limits, 0 … 1 (default 0: the coordinate stops).
     #[serde(default)]
-    pub restitution: f64,
+    pub(crate) restitution: f64,
 }
 
 /// An articulated tree and its initial state.
@@ -342,22 +342,22 @@ pub struct JointLimitsDesc {
 #[serde(deny_unknown_fields)]
 pub struct ArticulatedDesc {
     /// Part 1's model description (its `gravity` is replaced by the scene's).
-    pub model: ModelDescription,
+    pub(crate) model: ModelDescription,
     /// Initial configuration (default: neutral).
     /// Each entry within ±1e5 (m or rad).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub q: Option<Vec<f64>>,
+    pub(crate) q: Option<Vec<f64>>,
     /// Initial velocity (default: zero).
     /// Each entry within ±1e4 (m/s or rad/s).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub qd: Option<Vec<f64>>,
+    pub(crate) qd: Option<Vec<f64>>,
     /// Collision shapes fixed on links (with the `contacts` effect the links touch the
     /// scene's bodies and other trees' links). Several on one link make it a compound.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub shapes: Vec<LinkShapeDesc>,
+    pub(crate) shapes: Vec<LinkShapeDesc>,
     /// Motors, travel limits and prescribed motion of the joints' coordinates.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub drives: Vec<DriveDesc>,
+    pub(crate) drives: Vec<DriveDesc>,
 }
 
 /// A collision shape on a link of a tree.
@@ -365,18 +365,18 @@ pub struct ArticulatedDesc {
 #[serde(deny_unknown_fields)]
 pub struct LinkShapeDesc {
     /// The link (a body name of the model).
-    pub link: String,
+    pub(crate) link: String,
     /// The shape (a box, sphere, capsule or cylinder), centred on its own frame.
-    pub shape: ShapeDesc,
+    pub(crate) shape: ShapeDesc,
     /// Centre of the shape in the link frame (m).
     #[serde(default)]
-    pub position: [f64; 3],
+    pub(crate) position: [f64; 3],
     /// Orientation of the shape in the link frame, rotation vector (rad).
     #[serde(default)]
-    pub rotation: [f64; 3],
+    pub(crate) rotation: [f64; 3],
     /// Material name (default material when absent).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub material: Option<String>,
+    pub(crate) material: Option<String>,
 }
 
 /// What drives one coordinate of a joint (a revolute, prismatic, cylindrical or universal
@@ -385,19 +385,19 @@ pub struct LinkShapeDesc {
 #[serde(deny_unknown_fields)]
 pub struct DriveDesc {
     /// The joint, named by its child link.
-    pub joint: String,
+    pub(crate) joint: String,
     /// Which of the joint's coordinates (0 for one-degree-of-freedom joints).
     #[serde(default)]
-    pub coordinate: usize,
+    pub(crate) coordinate: usize,
     /// A PD servo with a force limit.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub motor: Option<MotorDesc>,
+    pub(crate) motor: Option<MotorDesc>,
     /// Travel limits `[lower, upper]` (rad or m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub limits: Option<[f64; 2]>,
+    pub(crate) limits: Option<[f64; 2]>,
     /// Prescribed motion (a kinematic root or driven joint).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub trajectory: Option<TrajectoryDesc>,
+    pub(crate) trajectory: Option<TrajectoryDesc>,
 }
 
 /// A motor: `τ = stiffness (target_position − q) + damping (target_velocity − q̇)`, limited to
@@ -407,18 +407,18 @@ pub struct DriveDesc {
 pub struct MotorDesc {
     /// Target position (rad or m); absent: a velocity motor.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub target_position: Option<f64>,
+    pub(crate) target_position: Option<f64>,
     /// Target velocity (rad/s or m/s).
     #[serde(default)]
-    pub target_velocity: f64,
+    pub(crate) target_velocity: f64,
     /// Stiffness (N·m/rad or N/m), 0 … 1e9.
     #[serde(default)]
-    pub stiffness: f64,
+    pub(crate) stiffness: f64,
     /// Damping (N·m·s/rad or N·s/m), 0 … 1e9.
     #[serde(default)]
-    pub damping: f64,
+    pub(crate) damping: f64,
     /// Largest force or torque (N or N·m), 0 … 1e9.
-    pub max_force: f64,
+    pub(crate) max_force: f64,
 }
 
 /// A trajectory `q*(t)` of a coordinate (rad or m; `t` in s from the scene's start).

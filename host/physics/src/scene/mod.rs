@@ -10,6 +10,7 @@ mod build;
 pub mod builtin;
 mod error;
 mod format;
+#[cfg(feature = "measure")]
 pub mod hard;
 mod validate;
 

@@ -24,62 +24,62 @@ pub(crate) use text_counts::{check_counts, read_bounded, read_file};
 /// (`v·dt`, `ω²·I`, `m·g`) far from overflow and the sizes far above rounding.
 pub mod limits {
     /// Sizes: half extents, radii, half heights (m).
-    pub const SIZE_M: (f64, f64) = (1e-4, 1e4);
+    pub(crate) const SIZE_M: (f64, f64) = (1e-4, 1e4);
     /// Masses, given or from density × volume (kg).
-    pub const MASS_KG: (f64, f64) = (1e-6, 1e6);
+    pub(crate) const MASS_KG: (f64, f64) = (1e-6, 1e6);
     /// Densities (kg/m³).
-    pub const DENSITY_KG_M3: (f64, f64) = (1e-2, 1e5);
+    pub(crate) const DENSITY_KG_M3: (f64, f64) = (1e-2, 1e5);
     /// Largest entry of an articulated body's rotational inertia (kg·m²): the heaviest mass
     /// at the largest size, `1e6 kg × (1e4 m)²`.
-    pub const INERTIA_KG_M2: f64 = 1e14;
+    pub(crate) const INERTIA_KG_M2: f64 = 1e14;
     /// Largest coordinate of a position, an anchor or a tree's joint placement (m).
-    pub const POSITION_M: f64 = 1e5;
+    pub(crate) const POSITION_M: f64 = 1e5;
     /// Largest speed (m/s).
-    pub const SPEED_M_S: f64 = 1e3;
+    pub(crate) const SPEED_M_S: f64 = 1e3;
     /// Largest angular speed (rad/s).
-    pub const ANGULAR_SPEED_RAD_S: f64 = 1e4;
+    pub(crate) const ANGULAR_SPEED_RAD_S: f64 = 1e4;
     /// Largest angle of a rotation vector (rad).
-    pub const ROTATION_RAD: f64 = 1e3;
+    pub(crate) const ROTATION_RAD: f64 = 1e3;
     /// The step (s).
-    pub const DT_S: (f64, f64) = (1e-6, 0.1);
+    pub(crate) const DT_S: (f64, f64) = (1e-6, 0.1);
     /// Largest gravity (m/s²).
-    pub const GRAVITY_M_S2: f64 = 1e3;
+    pub(crate) const GRAVITY_M_S2: f64 = 1e3;
     /// Length of a half-space normal or a joint axis (–; they are normalised).
-    pub const DIRECTION_NORM: (f64, f64) = (1e-6, 1e6);
+    pub(crate) const DIRECTION_NORM: (f64, f64) = (1e-6, 1e6);
     /// Contact stiffness (Hz).
-    pub const CONTACT_HERTZ: (f64, f64) = (1e-2, 1e5);
+    pub(crate) const CONTACT_HERTZ: (f64, f64) = (1e-2, 1e5);
     /// Largest damping rate (1/s).
-    pub const DAMPING_PER_S: f64 = 1e6;
+    pub(crate) const DAMPING_PER_S: f64 = 1e6;
     /// Largest friction coefficient (–).
-    pub const FRICTION: f64 = 10.0;
+    pub(crate) const FRICTION: f64 = 10.0;
     /// Largest rolling-resistance coefficient (–).
-    pub const ROLLING_RESISTANCE: f64 = 10.0;
+    pub(crate) const ROLLING_RESISTANCE: f64 = 10.0;
     /// Largest articulated coordinate (m or rad).
-    pub const TREE_Q: f64 = 1e5;
+    pub(crate) const TREE_Q: f64 = 1e5;
     /// Largest articulated velocity (m/s or rad/s).
-    pub const TREE_QD: f64 = 1e4;
+    pub(crate) const TREE_QD: f64 = 1e4;
     /// Steps of `vphys run` (`steps`).
-    pub const STEPS: (u64, u64) = (1, 100_000_000);
+    pub(crate) const STEPS: (u64, u64) = (1, 100_000_000);
     /// Most free bodies.
-    pub const BODIES: usize = 100_000;
+    pub(crate) const BODIES: usize = 100_000;
     /// Most shapes, all bodies together.
-    pub const SHAPES: usize = 100_000;
+    pub(crate) const SHAPES: usize = 100_000;
     /// Most parts of one compound shape.
-    pub const PARTS: usize = 256;
+    pub(crate) const PARTS: usize = 256;
     /// Largest offset of a compound's part from the body's reference frame (m, each coordinate).
-    pub const PART_OFFSET_M: f64 = 1e4;
+    pub(crate) const PART_OFFSET_M: f64 = 1e4;
     /// Most joints.
-    pub const JOINTS: usize = 100_000;
+    pub(crate) const JOINTS: usize = 100_000;
     /// Most materials.
-    pub const MATERIALS: usize = 10_000;
+    pub(crate) const MATERIALS: usize = 10_000;
     /// Most articulated trees.
-    pub const TREES: usize = 1_000;
+    pub(crate) const TREES: usize = 1_000;
     /// Most bodies (links) in one articulated tree.
-    pub const TREE_LINKS: usize = 1_000;
+    pub(crate) const TREE_LINKS: usize = 1_000;
     /// Most bodies in all articulated trees together.
-    pub const ALL_TREE_LINKS: usize = 100_000;
+    pub(crate) const ALL_TREE_LINKS: usize = 100_000;
     /// Most bytes of scene text.
-    pub const SCENE_BYTES: usize = 64 << 20;
+    pub(crate) const SCENE_BYTES: usize = 64 << 20;
 }
 
 /// Most problems listed; the rest are counted.

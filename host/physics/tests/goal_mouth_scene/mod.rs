@@ -5,8 +5,7 @@
 //! behind it (sides, back, roof), all fixed boxes; the field is the half-space `z ≤ 0`. The
 //! ball is 35 mm and 27 g. No gravity: a ball that touches nothing keeps its velocity exactly.
 #![allow(dead_code)]
-
-use virtual_physics::geometry::V3;
+use virtual_physics::algebra::Vec3;
 use virtual_physics::pipeline::World;
 use virtual_physics::scene::SceneFile;
 
@@ -32,9 +31,9 @@ pub struct Wall {
     /// Body name.
     pub name: &'static str,
     /// Lower corner (m).
-    pub min: V3,
+    pub min: Vec3,
     /// Upper corner (m).
-    pub max: V3,
+    pub max: Vec3,
     /// Material name.
     pub material: &'static str,
 }
@@ -42,8 +41,8 @@ pub struct Wall {
 pub fn walls() -> Vec<Wall> {
     let w = |name, min: [f64; 3], max: [f64; 3], material| Wall {
         name,
-        min: V3::from(min),
-        max: V3::from(max),
+        min: Vec3::from(min),
+        max: Vec3::from(max),
         material,
     };
     vec![
@@ -79,7 +78,7 @@ pub fn walls() -> Vec<Wall> {
 
 /// The goal-mouth scene as scene JSON, with the ball at `p` moving at `v`; `friction`
 /// selects the friction effect (contacts, restitution and continuous collision always).
-pub fn scene(p: V3, v: V3, friction: bool) -> World {
+pub fn scene(p: Vec3, v: Vec3, friction: bool) -> World {
     let effects = if friction {
         r#"["contacts", "friction", "restitution", "continuous_collision"]"#
     } else {
@@ -89,7 +88,7 @@ pub fn scene(p: V3, v: V3, friction: bool) -> World {
 }
 
 /// The goal-mouth scene with the effects `effects` (a JSON list of effect names).
-pub fn scene_with(p: V3, v: V3, effects: &str) -> World {
+pub fn scene_with(p: Vec3, v: Vec3, effects: &str) -> World {
     let mut bodies = vec![
         r#"{"name": "field", "kind": "fixed", "shape": {"type": "half_space", "normal": [0, 0, 1]}, "material": "cloth"}"#.to_string(),
     ];
@@ -120,7 +119,7 @@ pub fn scene_with(p: V3, v: V3, effects: &str) -> World {
 }
 
 /// The ball's position and velocity.
-pub fn ball(w: &World) -> (V3, V3) {
+pub fn ball(w: &World) -> (Vec3, Vec3) {
     let b = w.body(w.body_named("ball").unwrap()).unwrap();
     (b.position(), b.linear_velocity())
 }

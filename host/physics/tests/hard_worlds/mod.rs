@@ -3,15 +3,16 @@
 #![allow(dead_code)]
 
 use crate::scene_order::{body_at, tree_at};
+use virtual_physics::algebra::Vec3;
 use virtual_physics::dynamics::{aba, Workspace};
-use virtual_physics::geometry::{Shape, V3};
+use virtual_physics::geometry::Shape;
 use virtual_physics::measure::accuracy::articulated::chain_model;
 use virtual_physics::measure::accuracy::free_body;
 use virtual_physics::model::description::ModelDescription;
-use virtual_physics::pipeline::articulated::ArticulatedSystem;
+use virtual_physics::pipeline::ArticulatedSystem;
 use virtual_physics::pipeline::{BodyBuilder, Effect, Effects, IntegratorKind, World};
 
-pub fn finite(v: &V3) -> bool {
+pub fn finite(v: &Vec3) -> bool {
     v.iter().all(|x| x.is_finite())
 }
 
@@ -34,17 +35,17 @@ pub fn assert_finite(w: &World, case: &str) {
 pub fn fast_spinning_box(kind: Option<IntegratorKind>) -> World {
     let mut b = World::builder(Effects::of(&[Effect::Gyroscopic]))
         .dt(1.0 / 60.0)
-        .gravity(V3::zeros());
+        .gravity(Vec3::zeros());
     if let Some(kind) = kind {
         b = b.integrator(kind);
     }
     let mut w = b.build();
     w.insert_body(
         BodyBuilder::dynamic(Shape::Cuboid {
-            half: V3::from(free_body::HALF_EXTENTS),
+            half: Vec3::from(free_body::HALF_EXTENTS),
         })
         .mass(free_body::MASS)
-        .angular_velocity(V3::new(0.0, 200.0, 2.0)),
+        .angular_velocity(Vec3::new(0.0, 200.0, 2.0)),
     );
     w
 }
@@ -55,7 +56,7 @@ pub fn articulated_world(model: &ModelDescription, q: Vec<f64>, kind: Integrator
     let nv = tree.nv();
     let mut w = World::builder(Effects::of(&[Effect::Gravity, Effect::Articulated]))
         .dt(1.0 / 60.0)
-        .gravity(V3::new(0.0, 0.0, -9.81))
+        .gravity(Vec3::new(0.0, 0.0, -9.81))
         .integrator(kind)
         .build();
     w.insert_tree(ArticulatedSystem::new(tree, q, vec![0.0; nv]));

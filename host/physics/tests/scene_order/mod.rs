@@ -16,21 +16,18 @@ pub fn body_at_mut(w: &mut World, i: usize) -> virtual_physics::pipeline::BodyMu
 }
 
 /// Every body's centre of mass (m, world), in storage order.
-pub fn positions(w: &World) -> Vec<virtual_physics::geometry::V3> {
+pub fn positions(w: &World) -> Vec<virtual_physics::algebra::Vec3> {
     w.bodies().map(|b| b.position()).collect()
 }
 
 /// Tree `k` in insertion order.
-pub fn tree_at(w: &World, k: usize) -> &virtual_physics::pipeline::articulated::ArticulatedSystem {
+pub fn tree_at(w: &World, k: usize) -> &virtual_physics::pipeline::ArticulatedSystem {
     let h = w.tree_handles().nth(k).expect("a tree of the scene");
     w.tree(h).expect("a tree")
 }
 
 /// Tree `k` in insertion order, to set its state.
-pub fn tree_at_mut(
-    w: &mut World,
-    k: usize,
-) -> &mut virtual_physics::pipeline::articulated::ArticulatedSystem {
+pub fn tree_at_mut(w: &mut World, k: usize) -> &mut virtual_physics::pipeline::ArticulatedSystem {
     let h = w.tree_handles().nth(k).expect("a tree of the scene");
     w.tree_mut(h).expect("a tree")
 }

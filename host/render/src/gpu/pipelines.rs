@@ -1,8 +1,21 @@
 //! The renderer's bind group layouts, render pipelines and sampler: one shader module
 //! (`shaders/scene.wgsl`), a pipeline per kind of thing drawn.
 
-use super::{Vertex, DEPTH_FORMAT, NEBULA_FORMAT};
 use crate::scene::{MeshInstance, Sprite, UiRect};
+use bytemuck::{Pod, Zeroable};
+
+/// The depth buffer's format.
+pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The nebula's texture format: sRGB storage keeps the dark gradients free of banding.
+pub(crate) const NEBULA_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// A mesh vertex: position and normal in the mesh's frame.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub(crate) struct Vertex {
+    pub(crate) pos: [f32; 3],
+    pub(crate) normal: [f32; 3],
+}
 use wgpu::CompareFunction::{Always, Less, LessEqual};
 
 /// Colour already multiplied by alpha, drawn over what is there.

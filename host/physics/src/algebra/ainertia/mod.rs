@@ -12,9 +12,9 @@ use crate::Real;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AInertia<T: Real> {
     /// Angular–angular block (kg·m²).
-    pub a: Sym3<T>,
+    pub(crate) a: Sym3<T>,
     /// Angular–linear block (kg·m).
-    pub b: Mat3<T>,
+    pub(crate) b: Mat3<T>,
     /// Linear–linear block (kg).
-    pub c: Sym3<T>,
+    pub(crate) c: Sym3<T>,
 }

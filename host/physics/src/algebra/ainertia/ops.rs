@@ -10,13 +10,13 @@ use nalgebra::Matrix6;
 impl<T: Real> AInertia<T> {
     /// From the three blocks.
     #[inline(always)]
-    pub fn new(a: Sym3<T>, b: Mat3<T>, c: Sym3<T>) -> Self {
+    pub(crate) fn new(a: Sym3<T>, b: Mat3<T>, c: Sym3<T>) -> Self {
         Self { a, b, c }
     }
 
     /// The zero articulated inertia.
     #[inline]
-    pub fn zeros() -> Self {
+    pub(crate) fn zeros() -> Self {
         Self::new(Sym3::zeros(), Mat3::zeros(), Sym3::zeros())
     }
 
@@ -170,7 +170,7 @@ impl<T: Real> AInertia<T> {
     /// `Ĵ − Σ_k U_k W_kᵀ` for wrenches with a symmetric sum (as `U D⁻¹ Uᵀ` with
     /// `W = D⁻¹ U`, the multi-DOF form of Eq. 6): only the 21 independent entries are
     /// formed — `21 d` ×, `21 d` +.
-    pub fn sub_products(&self, u: &[dse3<T>], w: &[dse3<T>]) -> Self {
+    pub(crate) fn sub_products(&self, u: &[dse3<T>], w: &[dse3<T>]) -> Self {
         let ua: [[T; 6]; 6] = core::array::from_fn(|k| {
             if k < u.len() {
                 u[k].to_array()

@@ -8,7 +8,7 @@ impl<T: Real> Inertia<T> {
     /// From the raw parameters: mass (kg), first moment `m c` (kg·m), rotational inertia about
     /// the frame origin (kg·m²).
     #[inline]
-    pub fn new(m: T, h: Vec3<T>, i: Sym3<T>) -> Self {
+    pub(crate) fn new(m: T, h: Vec3<T>, i: Sym3<T>) -> Self {
         Self { m, h, i }
     }
 
@@ -29,7 +29,7 @@ impl<T: Real> Inertia<T> {
     }
 
     /// A point-like body of mass `m` (kg) at the origin with diagonal principal moments (kg·m²).
-    pub fn diagonal(m: T, moments: Vec3<T>) -> Self {
+    pub(crate) fn diagonal(m: T, moments: Vec3<T>) -> Self {
         Self::new(m, Vec3::zeros(), Sym3::diagonal(&moments))
     }
 
@@ -39,12 +39,12 @@ impl<T: Real> Inertia<T> {
     }
 
     /// Centre of mass `h / m` (m).
-    pub fn com(&self) -> Vec3<T> {
+    pub(crate) fn com(&self) -> Vec3<T> {
         scale(T::one() / self.m, &self.h)
     }
 
     /// Rotational inertia about the centre of mass, in the frame's axes (kg·m²).
-    pub fn i_com(&self) -> Sym3<T> {
+    pub(crate) fn i_com(&self) -> Sym3<T> {
         let c = self.com();
         let back = Inertia::from_com(self.m, c, Sym3::zeros());
         self.i - back.i

@@ -25,12 +25,12 @@ impl<T: Real> SE3<T> {
 
     /// A pure rotation.
     #[inline]
-    pub fn from_rotation(r: Mat3<T>) -> Self {
+    pub(crate) fn from_rotation(r: Mat3<T>) -> Self {
         Self::new(r, Vec3::zeros())
     }
 
     /// Rotation by `angle` (rad) about a unit `axis`, no translation (Rodrigues).
-    pub fn from_axis_angle(axis: &Vec3<T>, angle: T) -> Self {
+    pub(crate) fn from_axis_angle(axis: &Vec3<T>, angle: T) -> Self {
         Self::from_rotation(super::exp_log::rotation_about_unit_axis(axis, angle))
     }
 

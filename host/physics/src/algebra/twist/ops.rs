@@ -14,7 +14,7 @@ impl<T: Real> se3<T> {
 
     /// The zero twist.
     #[inline(always)]
-    pub fn zeros() -> Self {
+    pub(crate) fn zeros() -> Self {
         Self::new(Vec3::zeros(), Vec3::zeros())
     }
 

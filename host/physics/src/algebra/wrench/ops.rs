@@ -14,7 +14,7 @@ impl<T: Real> dse3<T> {
 
     /// The zero wrench.
     #[inline(always)]
-    pub fn zeros() -> Self {
+    pub(crate) fn zeros() -> Self {
         Self::new(Vec3::zeros(), Vec3::zeros())
     }
 

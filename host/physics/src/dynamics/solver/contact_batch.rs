@@ -456,7 +456,7 @@ struct Slot {
 /// preparing it, while the constraint is still in cache: filled from the whole prepared
 /// array afterwards, the fill read every constraint back from memory.
 #[derive(Clone, Debug, Default)]
-pub struct ContactBatches {
+pub(crate) struct ContactBatches {
     /// Per colour, its group buffers, kept across steps; the first `live_groups[k]` are this
     /// step's. Each colour's groups lie side by side in the order they are solved.
     colour_groups: Vec<Vec<ContactGroup>>,
@@ -467,9 +467,9 @@ pub struct ContactBatches {
     /// (a sphere's single point is not solved as four).
     open: Vec<[Option<u32>; MAX_MANIFOLD_POINTS + 1]>,
     /// Constraints solved one at a time (rolling resistance, or no colour free).
-    pub scalar: Vec<usize>,
+    pub(crate) scalar: Vec<usize>,
     /// Colours used in the last build.
-    pub colours: usize,
+    pub(crate) colours: usize,
     /// Per colour, a bit per body: the moving bodies it holds.
     used: Vec<Vec<u64>>,
     /// Per constraint added, where it sits (`None`: in no group).
@@ -479,12 +479,12 @@ pub struct ContactBatches {
 impl ContactBatches {
     /// Colours and groups `constraints` (each with its own softness).
     #[cfg(test)]
-    pub fn build(&mut self, constraints: &[ContactConstraint], n_bodies: usize) {
+    pub(crate) fn build(&mut self, constraints: &[ContactConstraint], n_bodies: usize) {
         self.build_of(constraints, n_bodies, |_| true);
     }
 
     /// Colours and groups the constraints of `constraints` whose index `include` accepts.
-    pub fn build_of(
+    pub(crate) fn build_of(
         &mut self,
         constraints: &[ContactConstraint],
         n_bodies: usize,
@@ -503,7 +503,7 @@ impl ContactBatches {
 
     /// Starts a build over `n_bodies` bodies; the constraints follow in their index order
     /// through [`Self::add`] or [`Self::skip`].
-    pub fn begin(&mut self, n_bodies: usize) {
+    pub(crate) fn begin(&mut self, n_bodies: usize) {
         self.scalar.clear();
         self.colours = 0;
         self.slot.clear();
@@ -529,7 +529,7 @@ impl ContactBatches {
     }
 
     /// Constraint `ci` (the next index) is not in this build.
-    pub fn skip(&mut self, ci: usize) {
+    pub(crate) fn skip(&mut self, ci: usize) {
         debug_assert_eq!(ci, self.slot.len());
         self.slot.push(None);
     }
@@ -539,7 +539,7 @@ impl ContactBatches {
     /// filled now; constraints no colour can take, or with rolling resistance or rows that
     /// follow a turn, go to [`Self::scalar`]. Its softness may still change
     /// ([`Self::set_softness`]). Whether it went to a group.
-    pub fn add(&mut self, ci: usize, c: &ContactConstraint) -> bool {
+    pub(crate) fn add(&mut self, ci: usize, c: &ContactConstraint) -> bool {
         debug_assert_eq!(ci, self.slot.len());
         if c.rolling_arm > 0.0 || c.follows {
             self.scalar.push(ci);
@@ -596,7 +596,7 @@ impl ContactBatches {
 
     /// Ends a build: the unused lanes of each colour's last group become rows that change
     /// nothing.
-    pub fn finish(&mut self) {
+    pub(crate) fn finish(&mut self) {
         for k in 0..self.colours {
             for g in self.open[k].iter().flatten() {
                 let g = &mut self.colour_groups[k][*g as usize];
@@ -608,7 +608,7 @@ impl ContactBatches {
     }
 
     /// Sets the softness of constraint `ci`'s lane to `c`'s, where `ci` is grouped.
-    pub fn set_softness(&mut self, ci: usize, c: &ContactConstraint) {
+    pub(crate) fn set_softness(&mut self, ci: usize, c: &ContactConstraint) {
         let Some(&Some(slot)) = self.slot.get(ci) else {
             return;
         };
@@ -629,12 +629,12 @@ impl ContactBatches {
     }
 
     /// Number of four-lane groups.
-    pub fn groups(&self) -> usize {
+    pub(crate) fn groups(&self) -> usize {
         self.live().map(<[ContactGroup]>::len).sum()
     }
 
     /// Applies every group's accumulated impulses (warm start).
-    pub fn warm_start(&self, bodies: &mut BodySet) {
+    pub(crate) fn warm_start(&self, bodies: &mut BodySet) {
         let isa = KernelIsa::detect();
         for groups in self.live() {
             warm_start_on(isa, groups, bodies);
@@ -642,7 +642,13 @@ impl ContactBatches {
     }
 
     /// One pass over the groups (see [`ContactConstraint::solve`]).
-    pub fn solve(&mut self, bodies: &mut BodySet, inv_h: f64, max_push: f64, pass: SolvePass) {
+    pub(crate) fn solve(
+        &mut self,
+        bodies: &mut BodySet,
+        inv_h: f64,
+        max_push: f64,
+        pass: SolvePass,
+    ) {
         let isa = KernelIsa::detect();
         for (g, &m) in self
             .colour_groups
@@ -656,7 +662,7 @@ impl ContactBatches {
 
     /// Copies the accumulated impulses back into `constraints` (before restitution and the
     /// manifolds' warm-start store).
-    pub fn write_back(&self, constraints: &mut [ContactConstraint]) {
+    pub(crate) fn write_back(&self, constraints: &mut [ContactConstraint]) {
         for g in self.live().flatten() {
             g.write_back(constraints);
         }
@@ -666,7 +672,7 @@ impl ContactBatches {
     /// warm-start store without the constraints in between, where nothing reads their
     /// impulses after the solve: no restitution), with the substep (s) they were
     /// accumulated over.
-    pub fn store_impulses(&self, manifolds: &mut [Manifold], impulse_substep: f64) {
+    pub(crate) fn store_impulses(&self, manifolds: &mut [Manifold], impulse_substep: f64) {
         // In the constraints' order, which is the manifolds': the manifolds are written
         // front to back (the colours interleave them).
         for slot in self.slot.iter().flatten() {

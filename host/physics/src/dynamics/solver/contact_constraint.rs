@@ -18,7 +18,7 @@ use crate::geometry::{Manifold, Shape, M3, MAX_MANIFOLD_POINTS, V3};
 mod resting;
 
 /// Overlap allowed without position correction (m): keeps resting contacts from jittering.
-pub const LINEAR_SLOP: f64 = 1e-4;
+pub(crate) const LINEAR_SLOP: f64 = 1e-4;
 
 /// A contact narrower than this (m) along its load's offset gives no tilt in
 /// [`ContactConstraint::column_tilt`].
@@ -32,20 +32,20 @@ const FOLLOW_MIN_OFFSET: f64 = 1e-6;
 
 /// Solver settings for contacts (from the scene's effects).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactSettings {
+pub(crate) struct ContactSettings {
     /// Friction on.
-    pub friction: bool,
+    pub(crate) friction: bool,
     /// Restitution on.
-    pub restitution: bool,
+    pub(crate) restitution: bool,
     /// Rolling resistance on.
-    pub rolling: bool,
+    pub(crate) rolling: bool,
     /// Approach speed below which no bounce is applied (m/s).
-    pub restitution_threshold: f64,
+    pub(crate) restitution_threshold: f64,
     /// Largest push-out speed of the position bias (m/s).
-    pub max_push_velocity: f64,
+    pub(crate) max_push_velocity: f64,
     /// Unit vector against gravity (world), zero without gravity: which body of a contact
     /// carries the other ([`carried_scale`]).
-    pub up: V3,
+    pub(crate) up: V3,
 }
 
 impl Default for ContactSettings {
@@ -97,13 +97,13 @@ pub(crate) fn carried_scale(n: &V3, up: &V3, ima: f64, imb: f64) -> (f64, f64) {
 
 /// What one Gauss–Seidel pass over the contacts does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct SolvePass {
+pub(crate) struct SolvePass {
     /// Push overlapping points out with the soft position bias (the substep's solve pass);
     /// false in the relax pass, which removes the push-out velocity again.
-    pub use_bias: bool,
+    pub(crate) use_bias: bool,
     /// Walk the points backwards: alternating the direction between passes keeps the
     /// Gauss–Seidel order from tilting a resting box one way step after step.
-    pub reverse: bool,
+    pub(crate) reverse: bool,
 }
 
 /// One row along a direction `d` at a point: each body's `I⁻¹ (r × d)` and the effective mass.
@@ -208,13 +208,13 @@ impl PatchFriction {
 
 /// The constraint of one manifold.
 #[derive(Clone, Copy, Debug)]
-pub struct ContactConstraint {
+pub(crate) struct ContactConstraint {
     /// Body A.
-    pub a: usize,
+    pub(crate) a: usize,
     /// Body B.
-    pub b: usize,
+    pub(crate) b: usize,
     /// Index of the manifold it came from.
-    pub manifold: usize,
+    pub(crate) manifold: usize,
     pub(super) normal: V3,
     pub(super) tangents: [V3; 2],
     pub(crate) ima: f64,
@@ -231,7 +231,7 @@ pub struct ContactConstraint {
     rolling_mass: M3,
     rolling_impulse: V3,
     /// Whether one body cannot move (stiffer softness).
-    pub against_static: bool,
+    pub(crate) against_static: bool,
     /// The soft coefficients of the normal rows ([`ContactConstraint::stiffen`]); until set,
     /// rigid without position bias.
     pub(super) softness: Softness,
@@ -271,7 +271,7 @@ struct PointRows {
 
 /// A unit vector orthogonal to `n` and a second completing the right-handed basis.
 #[inline]
-pub fn tangent_basis(n: &V3) -> [V3; 2] {
+pub(crate) fn tangent_basis(n: &V3) -> [V3; 2] {
     let t1 = if n.x.abs() < 0.57 {
         V3::new(0.0, n.z, -n.y)
     } else {
@@ -625,7 +625,7 @@ impl ContactConstraint {
     }
 
     /// Takes its stiffness from the bodies' mass ratio ([`ContactStiffness`]).
-    pub fn stiffen(&mut self, k: &ContactStiffness) {
+    pub(crate) fn stiffen(&mut self, k: &ContactStiffness) {
         self.softness = k.softness(self.against_static, self.mass_ratio());
     }
 
@@ -675,7 +675,7 @@ impl ContactConstraint {
     }
 
     /// Ratio of the heavier to the lighter moving body (1 against a body that does not move).
-    pub fn mass_ratio(&self) -> f64 {
+    pub(crate) fn mass_ratio(&self) -> f64 {
         if self.against_static {
             1.0
         } else {
@@ -684,7 +684,7 @@ impl ContactConstraint {
     }
 
     /// Sets the soft coefficients of the normal rows.
-    pub fn set_softness(&mut self, s: Softness) {
+    pub(crate) fn set_softness(&mut self, s: Softness) {
         self.softness = s;
     }
 
@@ -698,7 +698,7 @@ impl ContactConstraint {
     }
 
     /// Applies the accumulated impulses (warm start).
-    pub fn warm_start(&self, bodies: &mut BodySet) {
+    pub(crate) fn warm_start(&self, bodies: &mut BodySet) {
         // The friction patch's impulses, then each point's normal impulse, summed before
         // they are applied once (the four-lane warm start sums in the same order).
         let now = self.inertias_now(bodies);
@@ -728,7 +728,13 @@ impl ContactConstraint {
     /// One pass over the points: normal (with the position bias of its
     /// [`ContactConstraint::softness`] in the substep's solve pass), friction, rolling
     /// resistance. `inv_h` = 1 / substep (1/s).
-    pub fn solve(&mut self, bodies: &mut BodySet, inv_h: f64, max_push: f64, pass: SolvePass) {
+    pub(crate) fn solve(
+        &mut self,
+        bodies: &mut BodySet,
+        inv_h: f64,
+        max_push: f64,
+        pass: SolvePass,
+    ) {
         let SolvePass { use_bias, reverse } = pass;
         let soft = self.softness;
         let (a, b) = (self.a, self.b);
@@ -836,7 +842,7 @@ impl ContactConstraint {
 
     /// Restitution: points that approached faster than `threshold` (m/s) and carried load
     /// bounce with the material's coefficient.
-    pub fn restitution(&mut self, bodies: &mut BodySet, threshold: f64) {
+    pub(crate) fn restitution(&mut self, bodies: &mut BodySet, threshold: f64) {
         if self.restitution == 0.0 {
             return;
         }
@@ -867,12 +873,12 @@ impl ContactConstraint {
     }
 
     /// Whether this constraint has a restitution coefficient.
-    pub fn bounces(&self) -> bool {
+    pub(crate) fn bounces(&self) -> bool {
         self.restitution > 0.0
     }
 
     /// Writes the accumulated impulses back into the manifold (warm start of the next step).
-    pub fn store(&self, m: &mut Manifold) {
+    pub(crate) fn store(&self, m: &mut Manifold) {
         for (cp, pc) in m.points[..m.len].iter_mut().zip(&self.points) {
             cp.normal_impulse = pc.normal_impulse;
             cp.max_normal_impulse = pc.max_normal_impulse;

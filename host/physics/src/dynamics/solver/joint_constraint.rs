@@ -36,11 +36,11 @@ type M6 = nalgebra::Matrix6<f64>;
 type V6 = nalgebra::Vector6<f64>;
 
 /// Driven coordinates a joint holds at most (cylindrical and universal joints have two).
-pub const MAX_DRIVEN_DOFS: usize = 2;
+pub(crate) const MAX_DRIVEN_DOFS: usize = 2;
 
 /// A joint between bodies `a` and `b` and its solver state.
 #[derive(Clone, Copy, Debug)]
-pub struct FreeJoint {
+pub(crate) struct FreeJoint {
     /// Body A (storage index).
     pub(crate) a: usize,
     /// Body B (storage index).
@@ -180,7 +180,7 @@ impl FreeJoint {
     }
 
     /// The joint type.
-    pub fn kind(&self) -> FreeJointKind {
+    pub(crate) fn kind(&self) -> FreeJointKind {
         self.kind
     }
 
@@ -195,25 +195,25 @@ impl FreeJoint {
     }
 
     /// What drives coordinate `dof` (`None` past the driven coordinates).
-    pub fn drive(&self, dof: usize) -> Option<&DofDrive> {
+    pub(crate) fn drive(&self, dof: usize) -> Option<&DofDrive> {
         (dof < self.kind.driven_dofs()).then(|| &self.dofs[dof].drive)
     }
 
     /// What drives coordinate `dof`, to change it (`None` past the driven coordinates).
-    pub fn drive_mut(&mut self, dof: usize) -> Option<&mut DofDrive> {
+    pub(crate) fn drive_mut(&mut self, dof: usize) -> Option<&mut DofDrive> {
         (dof < self.kind.driven_dofs()).then(|| &mut self.dofs[dof].drive)
     }
 
     /// The torque or force the motor of `dof` gave in the last substep (N·m or N, along the
     /// coordinate, on B; A takes the opposite).
-    pub fn motor_force(&self, dof: usize) -> Option<f64> {
+    pub(crate) fn motor_force(&self, dof: usize) -> Option<f64> {
         (dof < self.kind.driven_dofs() && self.substep > 0.0)
             .then(|| self.dofs[dof].motor_impulse / self.substep)
     }
 
     /// The torque or force the limits of `dof` gave in the last substep (N·m or N, along the
     /// coordinate, on B: positive pushes away from the lower limit).
-    pub fn limit_force(&self, dof: usize) -> Option<f64> {
+    pub(crate) fn limit_force(&self, dof: usize) -> Option<f64> {
         (dof < self.kind.driven_dofs() && self.substep > 0.0).then(|| {
             let l = self.dofs[dof].limit_impulse;
             (l[0] - l[1]) / self.substep

@@ -24,48 +24,48 @@
 
 /// Approach speed (rad/s or m/s) below which a limit with restitution does not bounce (a
 /// coordinate resting on its limit stays there).
-pub const LIMIT_BOUNCE_SPEED: f64 = 0.05;
+pub(crate) const LIMIT_BOUNCE_SPEED: f64 = 0.05;
 
 /// A PD servo with a force limit on one coordinate of a joint between free bodies.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DofMotor {
+pub(crate) struct DofMotor {
     /// Target position (rad or m); `None` drives the velocity only.
-    pub target_position: Option<f64>,
+    pub(crate) target_position: Option<f64>,
     /// Target velocity (rad/s or m/s).
-    pub target_velocity: f64,
+    pub(crate) target_velocity: f64,
     /// Stiffness `k` (N·m/rad or N/m), used with a target position.
-    pub stiffness: f64,
+    pub(crate) stiffness: f64,
     /// Damping `c` (N·m·s/rad or N·s/m).
-    pub damping: f64,
+    pub(crate) damping: f64,
     /// Largest torque or force the motor gives (N·m or N).
-    pub max_force: f64,
+    pub(crate) max_force: f64,
 }
 
 /// Travel limits of one coordinate.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DofLimits {
+pub(crate) struct DofLimits {
     /// Lower limit (rad or m).
-    pub lower: f64,
+    pub(crate) lower: f64,
     /// Upper limit (rad or m).
-    pub upper: f64,
+    pub(crate) upper: f64,
     /// Restitution at the limits (0 … 1; 0: the coordinate stops).
-    pub restitution: f64,
+    pub(crate) restitution: f64,
 }
 
 /// What drives one coordinate of a joint between free bodies.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct DofDrive {
+pub(crate) struct DofDrive {
     /// A motor, if any.
-    pub motor: Option<DofMotor>,
+    pub(crate) motor: Option<DofMotor>,
     /// Limits, if any.
-    pub limits: Option<DofLimits>,
+    pub(crate) limits: Option<DofLimits>,
     /// Armature (kg·m² on an angle, kg on a slide); 0: none.
-    pub armature: f64,
+    pub(crate) armature: f64,
 }
 
 impl DofDrive {
     /// Whether anything acts on the coordinate.
-    pub fn is_active(&self) -> bool {
+    pub(crate) fn is_active(&self) -> bool {
         self.motor.is_some() || self.limits.is_some() || self.armature > 0.0
     }
 }

@@ -80,7 +80,7 @@ fn unit(a: V3) -> Result<V3, JointKindError> {
 
 impl FreeJointKind {
     /// The kind of a model joint, its axes read from `S(q₀)` at the neutral configuration.
-    pub fn from_joint(joint: &dyn Joint<f64>) -> Result<Self, JointKindError> {
+    pub(crate) fn from_joint(joint: &dyn Joint<f64>) -> Result<Self, JointKindError> {
         let nv = joint.nv();
         let mut q = vec![0.0; joint.nq()];
         joint.neutral(&mut q);
@@ -124,7 +124,7 @@ impl FreeJointKind {
     }
 
     /// Degrees of freedom (the model joint's `nv`).
-    pub fn dofs(&self) -> usize {
+    pub(crate) fn dofs(&self) -> usize {
         match self {
             Self::Revolute { .. } | Self::Prismatic { .. } => 1,
             Self::Cylindrical { .. } | Self::Universal { .. } => 2,
@@ -137,18 +137,10 @@ impl FreeJointKind {
     /// Degrees of freedom with a coordinate that moves additively (an angle or a slide), on
     /// which motors, limits and armature act: all of a revolute, prismatic, cylindrical or
     /// universal joint's, none of a ball's, a free joint's or a fixed one's.
-    pub fn driven_dofs(&self) -> usize {
+    pub(crate) fn driven_dofs(&self) -> usize {
         match self {
             Self::Ball | Self::Free | Self::Fixed => 0,
             k => k.dofs(),
         }
-    }
-
-    /// Whether coordinate `dof` is a slide (m) rather than an angle (rad).
-    pub fn is_linear(&self, dof: usize) -> bool {
-        matches!(
-            (self, dof),
-            (Self::Prismatic { .. }, 0) | (Self::Cylindrical { .. }, 1)
-        )
     }
 }

@@ -7,7 +7,7 @@
 use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub, SubAssign};
 
 /// Number of lanes.
-pub const WIDTH: usize = 4;
+pub(crate) const WIDTH: usize = 4;
 
 /// For each `$name = $features`, `unsafe fn $name(args) { $inner(args) }` compiled with those
 /// target features (x86-64 only): the copies of an `#[inline(always)]` kernel for each
@@ -110,22 +110,22 @@ macro_rules! lanewise {
 /// Four f64 values.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C, align(32))]
-pub struct Lanes(pub [f64; WIDTH]);
+pub(crate) struct Lanes(pub [f64; WIDTH]);
 
 /// A per-lane condition.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Mask([bool; WIDTH]);
+pub(crate) struct Mask([bool; WIDTH]);
 
 impl Lanes {
     /// Every lane `x`.
     #[inline(always)]
-    pub fn splat(x: f64) -> Self {
+    pub(crate) fn splat(x: f64) -> Self {
         Self([x; WIDTH])
     }
 
     /// Lane-wise maximum.
     #[inline(always)]
-    pub fn max(self, o: Self) -> Self {
+    pub(crate) fn max(self, o: Self) -> Self {
         lanewise!(self, o, |a, b| if a > b { a } else { b })
     }
 
@@ -133,25 +133,25 @@ impl Lanes {
     /// [`Lanes::max`], it never leaves a lane as it was, so updating a field in memory with it
     /// compiles to a plain store rather than a masked one (slow on some processors).
     #[inline(always)]
-    pub fn max_num(self, o: Self) -> Self {
+    pub(crate) fn max_num(self, o: Self) -> Self {
         lanewise!(self, o, |a, b| a.max(b))
     }
 
     /// Lane-wise minimum.
     #[inline(always)]
-    pub fn min(self, o: Self) -> Self {
+    pub(crate) fn min(self, o: Self) -> Self {
         lanewise!(self, o, |a, b| if a < b { a } else { b })
     }
 
     /// Lane-wise square root.
     #[inline(always)]
-    pub fn sqrt(self) -> Self {
+    pub(crate) fn sqrt(self) -> Self {
         lanewise!(self, |a| a.sqrt())
     }
 
     /// Lane-wise `self > o`.
     #[inline(always)]
-    pub fn gt(self, o: Self) -> Mask {
+    pub(crate) fn gt(self, o: Self) -> Mask {
         let mut m = [false; WIDTH];
         for ((m, a), b) in m.iter_mut().zip(self.0).zip(o.0) {
             *m = a > b;
@@ -163,13 +163,13 @@ impl Lanes {
 impl Mask {
     /// Whether any lane's condition holds.
     #[inline(always)]
-    pub fn any(self) -> bool {
+    pub(crate) fn any(self) -> bool {
         self.0.iter().any(|&m| m)
     }
 
     /// `a` where the condition holds, `b` elsewhere.
     #[inline(always)]
-    pub fn select(self, a: Lanes, b: Lanes) -> Lanes {
+    pub(crate) fn select(self, a: Lanes, b: Lanes) -> Lanes {
         let mut r = [0.0; WIDTH];
         for (((r, m), a), b) in r.iter_mut().zip(self.0).zip(a.0).zip(b.0) {
             *r = if m { a } else { b };
@@ -204,25 +204,25 @@ impl Neg for Lanes {
 
 /// A 3-vector per lane (structure of arrays).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct LaneV3 {
+pub(crate) struct LaneV3 {
     /// x of every lane.
-    pub x: Lanes,
+    pub(crate) x: Lanes,
     /// y of every lane.
-    pub y: Lanes,
+    pub(crate) y: Lanes,
     /// z of every lane.
-    pub z: Lanes,
+    pub(crate) z: Lanes,
 }
 
 impl LaneV3 {
     /// Dot product per lane.
     #[inline(always)]
-    pub fn dot(&self, o: &Self) -> Lanes {
+    pub(crate) fn dot(&self, o: &Self) -> Lanes {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
 
     /// Cross product per lane.
     #[inline(always)]
-    pub fn cross(&self, o: &Self) -> Self {
+    pub(crate) fn cross(&self, o: &Self) -> Self {
         Self {
             x: self.y * o.z - self.z * o.y,
             y: self.z * o.x - self.x * o.z,
@@ -232,7 +232,7 @@ impl LaneV3 {
 
     /// Scaled by a value per lane.
     #[inline(always)]
-    pub fn scale(&self, s: Lanes) -> Self {
+    pub(crate) fn scale(&self, s: Lanes) -> Self {
         Self {
             x: self.x * s,
             y: self.y * s,
@@ -242,13 +242,13 @@ impl LaneV3 {
 
     /// Lane `l` as a vector.
     #[inline(always)]
-    pub fn get(&self, l: usize) -> [f64; 3] {
+    pub(crate) fn get(&self, l: usize) -> [f64; 3] {
         [self.x.0[l], self.y.0[l], self.z.0[l]]
     }
 
     /// Sets lane `l`.
     #[inline(always)]
-    pub fn set(&mut self, l: usize, v: [f64; 3]) {
+    pub(crate) fn set(&mut self, l: usize, v: [f64; 3]) {
         self.x.0[l] = v[0];
         self.y.0[l] = v[1];
         self.z.0[l] = v[2];

@@ -10,20 +10,20 @@
 //! the substeps update each contact's separation from the bodies' linearised motion
 //! (`dp + dθ × r`) instead of re-running collision.
 
-pub mod contact_batch;
-pub mod contact_constraint;
-pub mod joint_constraint;
-pub mod joint_dofs;
+pub(crate) mod contact_batch;
+pub(crate) mod contact_constraint;
+pub(crate) mod joint_constraint;
+pub(crate) mod joint_dofs;
 pub(crate) mod joint_graph;
-pub mod joint_kind;
-pub mod lanes;
-pub mod softness;
+pub(crate) mod joint_kind;
+pub(crate) mod lanes;
+pub(crate) mod softness;
 
-pub use contact_batch::ContactBatches;
+pub(crate) use contact_batch::ContactBatches;
 pub(crate) use contact_constraint::LINEAR_SLOP;
-pub use contact_constraint::{ContactConstraint, ContactSettings, SolvePass};
-pub use joint_constraint::{FreeJoint, MAX_DRIVEN_DOFS};
-pub use joint_dofs::{DofLimits, DofMotor};
+pub(crate) use contact_constraint::{ContactConstraint, ContactSettings, SolvePass};
+pub(crate) use joint_constraint::{FreeJoint, MAX_DRIVEN_DOFS};
+pub(crate) use joint_dofs::{DofLimits, DofMotor};
 pub(crate) use joint_graph::{JointGraph, JointSoftness};
 pub use joint_kind::{FreeJointKind, JointKindError};
-pub use softness::{ContactStiffness, Softness};
+pub(crate) use softness::{ContactStiffness, Softness};

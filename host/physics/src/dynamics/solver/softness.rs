@@ -6,19 +6,19 @@ use crate::transcendental::{ln, powf};
 
 /// The three coefficients of a soft constraint.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Softness {
+pub(crate) struct Softness {
     /// Position error to velocity bias (1/s).
-    pub bias_rate: f64,
+    pub(crate) bias_rate: f64,
     /// Scale of the effective mass (–).
-    pub mass_scale: f64,
+    pub(crate) mass_scale: f64,
     /// Scale of the accumulated impulse subtracted each iteration (–).
-    pub impulse_scale: f64,
+    pub(crate) impulse_scale: f64,
 }
 
 impl Softness {
     /// From frequency (Hz), damping ratio and substep (s). `hertz = 0` gives a rigid
     /// constraint without position bias.
-    pub fn new(hertz: f64, zeta: f64, h: f64) -> Self {
+    pub(crate) fn new(hertz: f64, zeta: f64, h: f64) -> Self {
         if hertz <= 0.0 {
             return Self {
                 bias_rate: 0.0,
@@ -39,7 +39,7 @@ impl Softness {
 
     /// A rigid constraint with position bias `bias_rate` (1/s): no softening of the mass and
     /// no leak of the accumulated impulse, so a resting contact's overlap converges to zero.
-    pub fn rigid(bias_rate: f64) -> Self {
+    pub(crate) fn rigid(bias_rate: f64) -> Self {
         Self {
             bias_rate,
             mass_scale: 1.0,
@@ -60,27 +60,27 @@ impl Softness {
 /// their masses are equal and `hertz` from a mass ratio of [`UNEVEN_MASS_RATIO`] on,
 /// geometrically in between; against a body that does not move, `static_hertz`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactStiffness {
+pub(crate) struct ContactStiffness {
     /// Stiffness of a contact between moving bodies of very different masses (Hz).
-    pub hertz: f64,
+    pub(crate) hertz: f64,
     /// Stiffness of a contact between moving bodies of equal mass (Hz).
-    pub even_hertz: f64,
+    pub(crate) even_hertz: f64,
     /// Stiffness against a body that does not move (Hz).
-    pub static_hertz: f64,
+    pub(crate) static_hertz: f64,
     /// Damping ratio (–).
-    pub damping_ratio: f64,
+    pub(crate) damping_ratio: f64,
     /// Substep (s).
-    pub substep: f64,
+    pub(crate) substep: f64,
 }
 
 /// Mass ratio (heavier / lighter, –) from which a contact between moving bodies takes the
 /// stiffness of uneven masses, [`ContactStiffness::hertz`].
-pub const UNEVEN_MASS_RATIO: f64 = 10.0;
+pub(crate) const UNEVEN_MASS_RATIO: f64 = 10.0;
 
 impl ContactStiffness {
     /// Stiffness (Hz) of a contact against a body that does not move, or between moving bodies
     /// whose masses are `mass_ratio` (heavier / lighter, ≥ 1) apart.
-    pub fn hertz_for(&self, against_static: bool, mass_ratio: f64) -> f64 {
+    pub(crate) fn hertz_for(&self, against_static: bool, mass_ratio: f64) -> f64 {
         if against_static {
             return self.static_hertz;
         }
@@ -93,7 +93,7 @@ impl ContactStiffness {
     }
 
     /// The soft coefficients of such a contact.
-    pub fn softness(&self, against_static: bool, mass_ratio: f64) -> Softness {
+    pub(crate) fn softness(&self, against_static: bool, mass_ratio: f64) -> Softness {
         Softness::new(
             self.hertz_for(against_static, mass_ratio),
             self.damping_ratio,

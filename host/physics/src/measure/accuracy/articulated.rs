@@ -8,23 +8,24 @@ use crate::geometry::V3;
 use crate::model::description::{
     BodyDescription, InertiaDescription, JointDescription, ModelDescription, PlacementDescription,
 };
-use crate::pipeline::articulated::ArticulatedSystem;
+use crate::pipeline::ArticulatedSystem;
 use crate::pipeline::{Effect, Effects, IntegratorKind, SolverSettings, World};
 
 /// Sample spacing of the comparisons (s); every swept step divides it.
-pub const SAMPLE: f64 = 0.1;
+pub(crate) const SAMPLE: f64 = 0.1;
 /// Gravity (m/s², −z).
-pub const G: f64 = 9.81;
+pub(crate) const G: f64 = 9.81;
 
 const IDENTITY: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
 
 /// The heavy top: mass (kg), distance pivot → centre of mass (m), moments about the centre
 /// (transverse, axial; kg·m²), tilt θ₀ (rad), spin ω₃ (rad/s), simulated time (s).
-pub const TOP: (f64, f64, f64, f64, f64, f64, f64) = (1.0, 0.05, 0.002, 0.004, 0.5, 50.0, 5.0);
+pub(crate) const TOP: (f64, f64, f64, f64, f64, f64, f64) =
+    (1.0, 0.05, 0.002, 0.004, 0.5, 50.0, 5.0);
 
 /// The top's steady precession rate `Ω` (rad/s, the slow root of
 /// `I₁Ω² cos θ − I₃ω₃Ω + M g l = 0`, `I₁` about the pivot).
-pub fn top_precession_rate() -> f64 {
+pub(crate) fn top_precession_rate() -> f64 {
     let (m, l, it, ia, theta, w3, _) = TOP;
     let i1 = it + m * l * l;
     let c = theta.cos();
@@ -34,7 +35,7 @@ pub fn top_precession_rate() -> f64 {
 
 /// The analytic symmetry axis at time `t` (world): `(sin φ sin θ₀, −cos φ sin θ₀, cos θ₀)`,
 /// `φ = Ω t` (z-x-z Euler angles, `R = Rz(φ) Rx(θ₀) Rz(ψ)`).
-pub fn top_axis(t: f64) -> V3 {
+pub(crate) fn top_axis(t: f64) -> V3 {
     let theta = TOP.4;
     let (s, c) = (top_precession_rate() * t).sin_cos();
     V3::new(s * theta.sin(), -c * theta.sin(), theta.cos())
@@ -66,7 +67,7 @@ fn model(name: &str, bodies: Vec<BodyDescription>) -> ModelDescription {
 }
 
 /// The top: one body on a ball joint at the world origin, tilted by θ₀ about `x`, spinning.
-pub fn top_world(kind: IntegratorKind, dt: f64) -> World {
+pub(crate) fn top_world(kind: IntegratorKind, dt: f64) -> World {
     let (m, l, it, ia, theta, w3, _) = TOP;
     let d = model(
         "heavy-top",
@@ -135,7 +136,7 @@ pub fn chain_world(problem: Problem, kind: IntegratorKind, dt: f64) -> World {
 }
 
 /// Simulated time of a problem (s).
-pub fn duration(problem: Problem) -> f64 {
+pub(crate) fn duration(problem: Problem) -> f64 {
     match problem {
         Problem::HeavyTop => TOP.6,
         Problem::DoublePendulum => 5.0,
@@ -155,11 +156,11 @@ fn energy_scale(problem: Problem) -> f64 {
 /// A sampled run: per sample, the configuration (pendulum, chain) or the symmetry axis (top).
 pub struct Samples {
     /// Samples.
-    pub values: Vec<Vec<f64>>,
+    pub(crate) values: Vec<Vec<f64>>,
     /// CPU time of the stepping (s).
-    pub cpu_s: f64,
+    pub(crate) cpu_s: f64,
     /// Energy change over the run relative to the problem's energy scale.
-    pub energy_drift: f64,
+    pub(crate) energy_drift: f64,
 }
 
 /// Runs `problem` with `kind` at `dt`.

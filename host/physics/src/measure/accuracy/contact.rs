@@ -20,11 +20,11 @@ pub enum ContactProblemError {
 }
 
 /// Ball restitution against the cloth (–).
-pub const RESTITUTION: f64 = 0.5;
+pub(crate) const RESTITUTION: f64 = 0.5;
 /// Drop height of the ball's centre above its resting height (m).
-pub const DROP: f64 = 0.2;
+pub(crate) const DROP: f64 = 0.2;
 /// Rolling resistance of the cloth (–) and the ball's initial speed (m/s).
-pub const ROLLING: (f64, f64) = (0.05, 1.0);
+pub(crate) const ROLLING: (f64, f64) = (0.05, 1.0);
 /// Gravity (m/s²).
 const G: f64 = 9.81;
 
@@ -48,7 +48,10 @@ fn build(s: &SceneFile) -> Result<(World, usize), ContactProblemError> {
 }
 
 /// First rebound apex above the resting height (m) and CPU seconds, from a drop of [`DROP`].
-pub fn bounce(kind: IntegratorKind, dt: f64) -> Result<(f64, f64, f64), ContactProblemError> {
+pub(crate) fn bounce(
+    kind: IntegratorKind,
+    dt: f64,
+) -> Result<(f64, f64, f64), ContactProblemError> {
     let mut s = ball_scene(kind, dt);
     s.bodies[1].velocity = [0.0; 3];
     s.bodies[1].angular_velocity = [0.0; 3];
@@ -78,7 +81,7 @@ pub fn bounce(kind: IntegratorKind, dt: f64) -> Result<(f64, f64, f64), ContactP
 }
 
 /// Distance (m) the ball rolls before it stops (speed < 1 mm/s), and CPU seconds.
-pub fn roll(kind: IntegratorKind, dt: f64) -> Result<(f64, f64, f64), ContactProblemError> {
+pub(crate) fn roll(kind: IntegratorKind, dt: f64) -> Result<(f64, f64, f64), ContactProblemError> {
     let s = ball_scene(kind, dt);
     let (mut w, b) = build(&s)?;
     let n = steps_in(6.0, dt);
@@ -97,7 +100,7 @@ pub fn roll(kind: IntegratorKind, dt: f64) -> Result<(f64, f64, f64), ContactPro
 
 /// Analytic rebound height `e² h₀` (m) and stopping distance `v₀² / (2 · 5/7 μ_r g)` (m) of a
 /// solid sphere rolling without slipping.
-pub fn analytic() -> (f64, f64) {
+pub(crate) fn analytic() -> (f64, f64) {
     let (mu, v0) = ROLLING;
     (
         RESTITUTION * RESTITUTION * DROP,

@@ -131,15 +131,15 @@ pub struct Row {
     pub substeps: Option<usize>,
     /// Deepest overlap at the end (m) (towers, ball).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub penetration: Option<f64>,
+    pub(crate) penetration: Option<f64>,
     /// Problem-specific detail: name → value (units in the name: `_m`, …).
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
-    pub detail: BTreeMap<&'static str, f64>,
+    pub(crate) detail: BTreeMap<&'static str, f64>,
 }
 
 impl Row {
     /// A row with only the common fields set.
-    pub fn new(problem: Problem, integrator: IntegratorKind, dt: f64) -> Self {
+    pub(crate) fn new(problem: Problem, integrator: IntegratorKind, dt: f64) -> Self {
         Self {
             problem: problem.name(),
             integrator: integrator.name(),
@@ -157,7 +157,7 @@ impl Row {
 }
 
 /// Maps NaN to `inf` (a diverged run's error).
-pub fn finite_or_inf(x: f64) -> f64 {
+pub(crate) fn finite_or_inf(x: f64) -> f64 {
     if x.is_finite() {
         x
     } else {
@@ -178,7 +178,7 @@ pub fn set_clock(clock: fn() -> f64) -> bool {
 }
 
 /// A reading of the cost columns' clock (s; see [`set_clock`]).
-pub fn cpu_seconds() -> f64 {
+pub(crate) fn cpu_seconds() -> f64 {
     match CLOCK.get() {
         Some(clock) => clock(),
         None => wall_seconds(),
@@ -195,6 +195,6 @@ fn wall_seconds() -> f64 {
 }
 
 /// Number of steps of `dt` in `t` seconds (rounded).
-pub fn steps_in(t: f64, dt: f64) -> usize {
+pub(crate) fn steps_in(t: f64, dt: f64) -> usize {
     (t / dt).round() as usize
 }

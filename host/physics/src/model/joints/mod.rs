@@ -7,7 +7,7 @@
 //! coincides with the joint frame, so `S(0)` are the screw axes in the parent-fixed joint frame.
 //!
 //! A new joint type is one new file implementing [`Joint`]; to load it from a JSON
-//! description, add its `type` name to [`from_description`].
+//! description, add its `type` name to `from_description`.
 
 mod ball;
 mod cylindrical;
@@ -89,7 +89,9 @@ pub trait Joint<T: Real>: JointClone<T> + core::fmt::Debug + Send + Sync {
 
 /// Builds a joint from its description. Known types: `revolute`, `prismatic`, `cylindrical`,
 /// `universal` (need `axis`, universal also `axis2`), `ball`, `free`, `fixed`.
-pub fn from_description<T: Real>(d: &JointDescription) -> Result<Box<dyn Joint<T>>, ModelError> {
+pub(crate) fn from_description<T: Real>(
+    d: &JointDescription,
+) -> Result<Box<dyn Joint<T>>, ModelError> {
     let axis = |a: Option<[f64; 3]>| -> Result<Vec3<T>, ModelError> {
         let a = a.ok_or(ModelError::InvalidAxis([0.0; 3]))?;
         unit_axis(a)

@@ -245,7 +245,7 @@ impl ArticulatedSystem {
     }
 
     /// Whether any coordinate is driven.
-    pub fn has_drives(&self) -> bool {
+    pub(crate) fn has_drives(&self) -> bool {
         !self.drives.is_empty()
     }
 }
