@@ -96,10 +96,10 @@ enum Setting {
 /// ```
 /// # use virtual_physics::pipeline::{JointBuilder, Motor, BodyHandle};
 /// # use virtual_physics::model::Revolute;
-/// # use virtual_physics::geometry::V3;
+/// # use virtual_physics::algebra::Vec3;
 /// # fn f(a: BodyHandle, b: BodyHandle) -> JointBuilder {
-/// JointBuilder::new(&Revolute::new(V3::z()), a, b)
-///     .anchor(V3::new(0.0, 0.0, 1.0))
+/// JointBuilder::new(&Revolute::new(Vec3::z()), a, b)
+///     .anchor(Vec3::new(0.0, 0.0, 1.0))
 ///     .motor(0, Motor { target_position: Some(0.5), target_velocity: 0.0,
 ///                       stiffness: 100.0, damping: 10.0, max_force: 20.0 })
 ///     .limits(0, -1.0, 1.0)
