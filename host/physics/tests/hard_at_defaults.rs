@@ -64,6 +64,13 @@ fn a_heavy_cube_dropped_on_a_pyramid_of_light_ones_comes_to_rest_on_it() {
     holds("heavy-on-pyramid");
 }
 
+/// An arm of four revolute links (0.3 m, 1 kg capsules) dropped across 0.2 m stairs, and
+/// one of three: no link ends a step more than 2 mm inside a step of the stairs.
+#[test]
+fn a_falling_arm_stops_on_the_stairs_within_two_millimetres() {
+    holds("arm-on-stairs");
+}
+
 /// Stacks of unit cubes of 1 kg and 1000 kg, heavy on light, light between heavy and
 /// alternating, stand 10 s: no contact deeper than 5 mm, no cube moves 1 cm.
 #[test]

@@ -408,3 +408,25 @@ fn an_arm_whose_motors_press_a_box_onto_the_ground_reaches_static_equilibrium() 
     // The last servo is at its limit, pressing.
     assert!((a.drive_force(2, dt) - tau_max).abs() < 1e-6 * tau_max);
 }
+
+/// An arm falling across stairs moves farther in a 1/60 s step than its contacts see, so
+/// some of its steps are taken in parts: each step still ends exactly `dt` later, and its
+/// counters add up to the scene's substeps and solver passes.
+#[test]
+fn a_fast_arm_on_stairs_steps_in_parts_that_add_up_to_the_step() {
+    let scene = virtual_physics::scene::hard::arm_on_stairs(4, 0.3, 1.0, 0.2, 4);
+    let mut w = scene.build().expect("arm on stairs");
+    let (dt, substeps) = (w.dt(), w.settings().substeps);
+    let (mut t, mut split) = (0.0, 0);
+    for k in 1..=90 {
+        w.step().expect("step");
+        t += dt;
+        assert_eq!(w.time(), t, "the clock after step {k}");
+        let c = w.counters();
+        assert_eq!(c.substeps, substeps, "substeps of step {k}");
+        assert_eq!(c.solver_iterations, 2 * substeps, "passes of step {k}");
+        assert!((1..=4).contains(&c.parts), "step {k} in {} parts", c.parts);
+        split += usize::from(c.parts > 1);
+    }
+    assert!(split > 0, "no step of the falling arm was taken in parts");
+}

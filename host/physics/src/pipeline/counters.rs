@@ -115,6 +115,9 @@ pub struct StepCounters {
     /// Bodies in the islands whose contacts would lean (stiffened, on extra substeps where
     /// the stiffness cap asks for them).
     pub fine_bodies: usize,
+    /// Parts the step was taken in: 1, or more where a tree touching static geometry moved
+    /// farther in the step than its contacts see (`pipeline/step_parts.rs`).
+    pub parts: usize,
 }
 
 impl StepCounters {
@@ -132,6 +135,28 @@ impl StepCounters {
     /// The stages that ran.
     pub fn stages(&self) -> impl Iterator<Item = Stage> + '_ {
         Stage::ALL.into_iter().filter(|s| self.ran(*s))
+    }
+
+    /// Adds the work of `part`, a later part of the same step, to these counters: the
+    /// stages run, the tests, passes, substeps and solves add up; the step's state (its
+    /// manifolds, contacts, colours, groups, awake bodies, islands) is the last part's.
+    pub(crate) fn add_part(&mut self, part: &StepCounters) {
+        let work = StepCounters {
+            stages: self.stages | part.stages,
+            broad_phase_tests: self.broad_phase_tests + part.broad_phase_tests,
+            broad_phase_pairs: self.broad_phase_pairs + part.broad_phase_pairs,
+            pairs_tested: self.pairs_tested + part.pairs_tested,
+            manifolds_refreshed: self.manifolds_refreshed + part.manifolds_refreshed,
+            solver_iterations: self.solver_iterations + part.solver_iterations,
+            substeps: self.substeps + part.substeps,
+            restitution_constraints: self.restitution_constraints + part.restitution_constraints,
+            touching_impacts: self.touching_impacts + part.touching_impacts,
+            articulated_solves: self.articulated_solves + part.articulated_solves,
+            fine_substeps: self.fine_substeps + part.fine_substeps,
+            parts: self.parts + part.parts,
+            ..*part
+        };
+        *self = work;
     }
 
     /// Clears everything.

@@ -40,6 +40,7 @@ mod settings;
 pub(crate) mod sink_hold;
 mod step;
 mod step_guard;
+mod step_parts;
 mod substep_plan;
 mod warm_start_replay;
 mod world_guard;

@@ -76,6 +76,7 @@ impl World {
     /// One step of `dt`, unchecked: its stages in order.
     pub(super) fn step_unguarded(&mut self) -> Result<(), DynamicsError> {
         self.counters.reset();
+        self.counters.parts = 1;
         let h = self.dt / self.settings.substeps.max(1) as f64;
         self.counters.awake_bodies = self.bodies.awake.iter().filter(|a| **a).count();
         if self.islands.is_some() && self.counters.awake_bodies == 0 && !self.kinematic_moving() {

@@ -127,6 +127,17 @@ fn side_of(bodies: &BodySet, proxies: &[Option<Proxy>], i: usize) -> Side {
 
 impl TreeContacts {
     /// Forgets last step's contacts.
+    /// The trees' contacts of the last step that impulses act on against a body that does not
+    /// move (static geometry, or a kinematic or sleeping body): `(tree, manifold index)`.
+    pub(crate) fn against_still(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.contacts.iter().filter_map(|c| match (c.a, c.b) {
+            (Side::Link { tree, .. }, Side::Still) | (Side::Still, Side::Link { tree, .. }) => {
+                Some((tree, c.manifold))
+            }
+            _ => None,
+        })
+    }
+
     pub(crate) fn clear(&mut self) {
         self.contacts.clear();
         self.inert.clear();

@@ -244,7 +244,10 @@ impl World {
     /// back as it was before the step (the contact warm-start cache is cleared).
     pub fn step(&mut self) -> Result<(), DynamicsError> {
         self.guard_before_step()?;
-        let result = self.step_unguarded();
+        let result = match self.step_parts() {
+            1 => self.step_unguarded(),
+            parts => self.step_in_parts(parts),
+        };
         self.guard_after_step(result)
     }
 

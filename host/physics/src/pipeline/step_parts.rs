@@ -1,0 +1,102 @@
+//! A step taken in parts where a tree's links move farther in it than its contacts see.
+//!
+//! A tree's contacts are found at the step's start, and each keeps its normal, its point on
+//! the link (moved with the link's pose at each substep) and its Jacobian rows for the whole
+//! step. A tree that touches static geometry and whose links move by more than the
+//! speculative distance in one step can reach an edge or a face that none of its contacts saw,
+//! or meet one along another normal (a falling arm pivoting on one step's edge swings its far
+//! end onto the next). Such a step is taken as `n` steps of `dt / n` on `substeps / n`
+//! substeps each: the same substep, so the solver's cost is unchanged, while collision and
+//! preparation run `n` times and each part's contacts are found where the links are then
+//! (what `vphys hard --finer N` measures). A half-space has one normal and no edge, so
+//! contacts with one do not split a step (a foosball man sweeping over the cloth).
+
+use super::world::World;
+use super::StepCounters;
+use crate::dynamics::DynamicsError;
+use crate::geometry::Shape;
+
+/// The most parts a step is split into.
+const MAX_PARTS: usize = 4;
+
+impl World {
+    /// Into how many parts this step is split: 1, unless a tree had a contact against static
+    /// geometry other than a half-space in the last step; then the farthest any of its link
+    /// proxies' points travels over the step (`|v| + |ω| · reach`, m, at the step's start) in
+    /// speculative distances, rounded up, within `1 ..= min(MAX_PARTS, substeps)` and
+    /// dividing `substeps`.
+    pub(super) fn step_parts(&self) -> usize {
+        let substeps = self.settings.substeps.max(1);
+        let spec = self.settings.speculative_distance;
+        let Some(narrow) = self.narrow.as_ref() else {
+            return 1;
+        };
+        if self.tree_contacts.contacts.is_empty() || substeps < 2 || spec <= 0.0 {
+            return 1;
+        }
+        let mut travel: f64 = 0.0;
+        let mut last = None;
+        for (tree, mi) in self.tree_contacts.against_still() {
+            let m = &narrow.manifolds[mi];
+            let still_is_plane = [m.a, m.b].iter().any(|&i| {
+                self.proxies[i as usize].is_none()
+                    && matches!(self.bodies.shape[i as usize], Shape::HalfSpace { .. })
+            });
+            // A tree's contacts lie together: its travel is found once per run of them.
+            if still_is_plane || last == Some(tree) {
+                continue;
+            }
+            last = Some(tree);
+            travel = travel.max(self.tree_travel(tree));
+        }
+        if travel.is_nan() || travel <= spec {
+            return 1;
+        }
+        let n = (travel / spec).ceil().min(MAX_PARTS.min(substeps) as f64) as usize;
+        // Parts of whole substeps: the largest divisor of `substeps` not above `n`.
+        (1..=n).rev().find(|k| substeps % k == 0).unwrap_or(1)
+    }
+
+    /// The farthest any point of tree `tree`'s link proxies travels over the step at its
+    /// velocities now (m).
+    fn tree_travel(&self, tree: usize) -> f64 {
+        let mut travel: f64 = 0.0;
+        for (i, p) in self.proxies.iter().enumerate() {
+            if p.is_none_or(|p| p.tree != tree) {
+                continue;
+            }
+            let w = self.bodies.omega[i];
+            let turn = w.norm();
+            let reach = if turn > 0.0 {
+                let axis = self.bodies.rot[i].tr_mul(&(w / turn));
+                self.bodies.shape[i].reach_about(&axis)
+            } else {
+                0.0
+            };
+            travel = travel.max((self.bodies.vel[i].norm() + turn * reach) * self.dt);
+        }
+        travel
+    }
+
+    /// The step as `parts` steps of `dt / parts`, each on `substeps / parts` substeps; the
+    /// clock ends at the step's end exactly, and the counters add up the parts' work.
+    pub(super) fn step_in_parts(&mut self, parts: usize) -> Result<(), DynamicsError> {
+        let (dt, substeps, t0) = (self.dt, self.settings.substeps, self.time);
+        self.dt = dt / parts as f64;
+        self.settings.substeps = substeps / parts;
+        let mut done = StepCounters::default();
+        let mut result = Ok(());
+        for _ in 0..parts {
+            result = self.step_unguarded();
+            done.add_part(&self.counters);
+            if result.is_err() {
+                break;
+            }
+        }
+        self.dt = dt;
+        self.settings.substeps = substeps;
+        self.time = t0 + dt;
+        self.counters = done;
+        result
+    }
+}
