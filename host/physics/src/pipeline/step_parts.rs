@@ -19,6 +19,11 @@ use crate::geometry::Shape;
 /// The most parts a step is split into.
 const MAX_PARTS: usize = 4;
 
+/// Tree `tree`'s bit in a set of trees (the 64th and later share the last).
+fn tree_bit(tree: usize) -> u64 {
+    1 << tree.min(63)
+}
+
 impl World {
     /// Into how many parts this step is split: 1, unless a tree had a contact against static
     /// geometry other than a half-space in the last step; then the farthest any of its link
@@ -34,21 +39,22 @@ impl World {
         if self.tree_contacts.contacts.is_empty() || substeps < 2 || spec <= 0.0 {
             return 1;
         }
-        let mut travel: f64 = 0.0;
-        let mut last = None;
+        // The trees with such a contact, a bit each (trees past the 64th share the last bit).
+        let mut trees = 0u64;
         for (tree, mi) in self.tree_contacts.against_still() {
             let m = &narrow.manifolds[mi];
-            let still_is_plane = [m.a, m.b].iter().any(|&i| {
+            let plane = [m.a, m.b].iter().any(|&i| {
                 self.proxies[i as usize].is_none()
                     && matches!(self.bodies.shape[i as usize], Shape::HalfSpace { .. })
             });
-            // A tree's contacts lie together: its travel is found once per run of them.
-            if still_is_plane || last == Some(tree) {
-                continue;
+            if !plane {
+                trees |= tree_bit(tree);
             }
-            last = Some(tree);
-            travel = travel.max(self.tree_travel(tree));
         }
+        if trees == 0 {
+            return 1;
+        }
+        let travel = self.links_travel(trees);
         if travel.is_nan() || travel <= spec {
             return 1;
         }
@@ -57,12 +63,12 @@ impl World {
         (1..=n).rev().find(|k| substeps % k == 0).unwrap_or(1)
     }
 
-    /// The farthest any point of tree `tree`'s link proxies travels over the step at its
-    /// velocities now (m).
-    fn tree_travel(&self, tree: usize) -> f64 {
+    /// The farthest any point of the link proxies of the trees in `trees` (`tree_bit`)
+    /// travels over the step at its velocities now (m).
+    fn links_travel(&self, trees: u64) -> f64 {
         let mut travel: f64 = 0.0;
         for (i, p) in self.proxies.iter().enumerate() {
-            if p.is_none_or(|p| p.tree != tree) {
+            if p.is_none_or(|p| trees & tree_bit(p.tree) == 0) {
                 continue;
             }
             let w = self.bodies.omega[i];
