@@ -221,7 +221,7 @@ pub fn run(args: &HeadlessArgs, table: &str, seed: u64, history: Option<&Path>) 
             now_unix_s(),
         )
         .context("the match's record: no end among its events")?;
-        store.add(&record)?;
+        store.add(&record, Some(m.recording()))?;
     }
     if let Some(path) = &args.record {
         m.recording()

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{run, BIN};
+use common::{run, spinning_home_script, BIN};
 use serde_json::Value;
 use std::process::{Command, Stdio};
 use std::time::Duration;
@@ -16,6 +16,77 @@ fn history_json(db: &std::path::Path) -> Value {
         String::from_utf8_lossy(&out.stderr)
     );
     serde_json::from_slice(&out.stdout).expect("one JSON object")
+}
+
+/// A match kept with `--history` keeps its replay beside it: written out with
+/// `history --replay ID --out FILE`, it plays back event for event, bit for bit.
+#[test]
+fn a_kept_match_s_replay_plays_it_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("history.sqlite3");
+    let script = spinning_home_script(dir.path());
+    let played = run(&[
+        "play",
+        "--headless",
+        "--seed",
+        "2",
+        "--goals",
+        "1",
+        "--script",
+        script.to_str().unwrap(),
+        "--history",
+        db.to_str().unwrap(),
+    ]);
+    assert!(
+        played.status.success(),
+        "{}",
+        String::from_utf8_lossy(&played.stderr)
+    );
+    let h = history_json(&db);
+    let m = &h["matches"][0];
+    assert_eq!(m["has_replay"], true);
+    let id = m["id"].as_i64().unwrap().to_string();
+    let file = dir.path().join("replay.json");
+    let out = run(&[
+        "history",
+        "--history",
+        db.to_str().unwrap(),
+        "--replay",
+        &id,
+        "--out",
+        file.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let replayed = run(&["replay", file.to_str().unwrap(), "--home", "player"]);
+    assert!(
+        replayed.status.success(),
+        "{}",
+        String::from_utf8_lossy(&replayed.stderr)
+    );
+    let (a, b) = (
+        String::from_utf8(played.stdout).unwrap(),
+        String::from_utf8(replayed.stdout).unwrap(),
+    );
+    assert!(a.lines().count() > 10);
+    assert_eq!(a, b);
+    // No such match: one line naming it, exit 1, no file written.
+    let missing = dir.path().join("none.json");
+    let out = run(&[
+        "history",
+        "--history",
+        db.to_str().unwrap(),
+        "--replay",
+        "999",
+        "--out",
+        missing.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no replay of match 999"));
+    assert!(!missing.exists());
 }
 
 #[test]

@@ -1,4 +1,5 @@
-//! `space-foosball history`: the matches kept, newest first, and the best of them.
+//! `space-foosball history`: the matches kept, newest first, and the best of them; a
+//! match's replay written out to a file.
 
 use super::record::MatchRecord;
 use super::store::{default_path, HistoryStore, MAX_LIST};
@@ -19,9 +20,17 @@ pub struct Args {
     #[arg(long, default_value_t = 20)]
     pub limit: usize,
     /// Print one JSON object: the database's path and SQLite's integrity check (`ok`), the
-    /// matches (with their shots), the top scorers and the fastest shot.
+    /// matches (with their shots and whether their replay is kept), the top scorers and the
+    /// fastest shot.
     #[arg(long)]
     pub json: bool,
+    /// Write the replay kept beside match ID to `--out` (a recording `space-foosball replay`
+    /// plays) instead of listing.
+    #[arg(long, value_name = "ID", requires = "out")]
+    pub replay: Option<i64>,
+    /// Where `--replay` writes the recording (written whole or not at all).
+    #[arg(long, value_name = "FILE", requires = "replay")]
+    pub out: Option<PathBuf>,
 }
 
 /// A team's goals over the matches listed.
@@ -113,8 +122,9 @@ pub fn line(m: &MatchRecord) -> String {
     let fastest = m.fastest_shot().map_or_else(String::new, |s| {
         format!("  fastest shot {:.1} m/s", s.speed_m_s)
     });
+    let replay = if m.has_replay { "  replay" } else { "" };
     format!(
-        "#{:<4} {} UTC  {:<6} {:<8} {} {} – {} {}  {}{}",
+        "#{:<4} {} UTC  {:<6} {:<8} {} {} – {} {}  {}{}{}",
         m.id,
         utc_minute(m.finished_unix_s),
         m.mode.as_str(),
@@ -124,7 +134,8 @@ pub fn line(m: &MatchRecord) -> String {
         m.score[1],
         m.teams[1],
         minutes(m.duration_ms),
-        fastest
+        fastest,
+        replay
     )
 }
 
@@ -142,6 +153,20 @@ pub fn run(args: &Args) -> Result<()> {
         .exists()
         .then(|| HistoryStore::open(&path))
         .transpose()?;
+    if let (Some(id), Some(out)) = (args.replay, &args.out) {
+        let Some(recording) = store.as_ref().map(|s| s.replay(id)).transpose()?.flatten() else {
+            bail!("no replay of match {id} in {}", path.display());
+        };
+        recording
+            .save(out)
+            .map_err(|e| anyhow::anyhow!("writing the replay of match {id}: {e}"))?;
+        println!(
+            "the replay of match {id} is in {} (space-foosball replay {})",
+            out.display(),
+            out.display()
+        );
+        return Ok(());
+    }
     let integrity = match &store {
         Some(s) => s.integrity()?,
         None => "ok".to_string(),

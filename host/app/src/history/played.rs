@@ -4,6 +4,7 @@
 use super::record::{now_unix_s, MatchRecord, Mode};
 use super::store::HistoryStore;
 use space_foosball::play::RodController;
+use space_foosball::recording::MatchRecording;
 use space_foosball::rules::{Event, TimedEvent};
 use space_foosball::table::CharacterType;
 use space_foosball::Table;
@@ -71,14 +72,21 @@ impl PlayedMatch {
     }
 }
 
-/// Keeps `record` in the history at `path` on a thread of its own (the frame does not
-/// wait for the disk), then puts the history's new attract lines in `lines`; a history
-/// that cannot be written is reported on stderr, and play goes on.
-pub fn keep_in_background(path: PathBuf, record: MatchRecord, lines: Arc<Mutex<Vec<String>>>) {
+/// Keeps `record` in the history at `path`, with its `replay` where there is one, on a
+/// thread of its own (the frame does not wait for the compression or the disk), then puts
+/// the history's new attract lines in `lines`; a history that cannot be written is reported
+/// on stderr, and play goes on.
+pub fn keep_in_background(
+    path: PathBuf,
+    record: MatchRecord,
+    replay: Option<MatchRecording>,
+    lines: Arc<Mutex<Vec<String>>>,
+) {
     let spawned = std::thread::Builder::new()
         .name("history".into())
         .spawn(move || {
-            if let Err(e) = HistoryStore::open(&path).and_then(|mut s| s.add(&record)) {
+            let kept = HistoryStore::open(&path).and_then(|mut s| s.add(&record, replay.as_ref()));
+            if let Err(e) = kept {
                 eprintln!("space-foosball: the match was not kept: {e}");
                 return;
             }

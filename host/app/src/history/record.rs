@@ -68,6 +68,9 @@ pub struct MatchRecord {
     pub seed: u64,
     /// Every kick, in match order.
     pub shots: Vec<Shot>,
+    /// Whether its replay is kept beside it (`space-foosball history --replay ID`).
+    #[serde(default)]
+    pub has_replay: bool,
 }
 
 impl MatchRecord {
@@ -107,6 +110,7 @@ impl MatchRecord {
             duration_ms: end_ms,
             seed,
             shots,
+            has_replay: false,
         })
     }
 

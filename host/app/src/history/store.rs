@@ -5,15 +5,26 @@
 //! commit atomic, so a process killed (or a cabinet switched off) while it writes leaves
 //! every match before it intact and this one either whole or absent. The file is opened
 //! with `synchronous = FULL`, so a committed match survives a power cut too.
+//!
+//! Beside a match lies its replay where one was made: the match's recording (the inputs of
+//! every step, what `space-foosball replay` plays) as gzip-compressed JSON, in the same
+//! transaction.
 
 use super::record::{MatchRecord, Mode, Shot};
 use rusqlite::{params, Connection, OpenFlags};
+use space_foosball::recording::MatchRecording;
 use space_foosball::side::Side;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-/// The schema's version, kept in SQLite's `user_version`.
-const SCHEMA_VERSION: i64 = 1;
+/// The schema's version, kept in SQLite's `user_version` (2: the replays beside the
+/// matches).
+const SCHEMA_VERSION: i64 = 2;
+
+/// Largest replay read back, uncompressed (bytes): a recording of the longest match the
+/// game plays is some 50 MB.
+const MAX_REPLAY_BYTES: u64 = 256 << 20;
 
 /// Longest a writer waits for another process's write to finish.
 const BUSY_TIMEOUT: Duration = Duration::from_secs(5);
@@ -42,6 +53,10 @@ CREATE TABLE IF NOT EXISTS shots (
     speed_m_s REAL NOT NULL
 );
 CREATE INDEX IF NOT EXISTS shots_by_match ON shots(match_id);
+CREATE TABLE IF NOT EXISTS replays (
+    match_id INTEGER PRIMARY KEY REFERENCES matches(id) ON DELETE CASCADE,
+    gzip_json BLOB NOT NULL
+);
 ";
 
 /// What went wrong with the history database.
@@ -149,8 +164,20 @@ impl HistoryStore {
         }
     }
 
-    /// Adds a finished match and its shots in one transaction; its new id.
-    pub fn add(&mut self, m: &MatchRecord) -> Result<i64, HistoryError> {
+    /// Adds a finished match, its shots and its replay (where one was made) in one
+    /// transaction; its new id.
+    pub fn add(
+        &mut self,
+        m: &MatchRecord,
+        replay: Option<&MatchRecording>,
+    ) -> Result<i64, HistoryError> {
+        let replay = replay
+            .map(compress)
+            .transpose()
+            .map_err(|e| HistoryError::Content {
+                path: self.path.clone(),
+                what: format!("compressing the replay: {e}"),
+            })?;
         let path = self.path.clone();
         let sql = |source| HistoryError::Sqlite {
             path: path.clone(),
@@ -190,6 +217,12 @@ impl HistoryStore {
                         s.speed_m_s,
                     ])?;
                 }
+                if let Some(blob) = &replay {
+                    tx.execute(
+                        "INSERT INTO replays (match_id, gzip_json) VALUES (?1, ?2)",
+                        params![id, blob],
+                    )?;
+                }
                 Ok(id)
             };
             insert(&tx).map_err(sql)?
@@ -205,8 +238,9 @@ impl HistoryStore {
             .conn
             .prepare(
                 "SELECT id, finished_unix_s, mode, table_name, home_team, away_team, \
-                 home_score, away_score, duration_ms, seed FROM matches \
-                 ORDER BY id DESC LIMIT ?1",
+                 home_score, away_score, duration_ms, seed, \
+                 EXISTS (SELECT 1 FROM replays WHERE match_id = matches.id) \
+                 FROM matches ORDER BY id DESC LIMIT ?1",
             )
             .map_err(|e| self.sql(e))?;
         let rows = stmt
@@ -220,12 +254,13 @@ impl HistoryStore {
                     [r.get::<_, i64>(6)?, r.get::<_, i64>(7)?],
                     r.get::<_, i64>(8)?,
                     r.get::<_, i64>(9)?,
+                    r.get::<_, bool>(10)?,
                 ))
             })
             .map_err(|e| self.sql(e))?;
         let mut out = Vec::new();
         for row in rows {
-            let (id, finished, mode, table, teams, score, duration, seed) =
+            let (id, finished, mode, table, teams, score, duration, seed, has_replay) =
                 row.map_err(|e| self.sql(e))?;
             let content = |what: String| HistoryError::Content {
                 path: self.path.clone(),
@@ -243,9 +278,49 @@ impl HistoryStore {
                 duration_ms: u64::try_from(duration).unwrap_or(0),
                 seed: seed as u64,
                 shots: self.shots_of(id)?,
+                has_replay,
             });
         }
         Ok(out)
+    }
+
+    /// The replay of match `id`: `None` where the match has none (or there is no such
+    /// match); an error names a replay that cannot be read back.
+    pub fn replay(&self, id: i64) -> Result<Option<MatchRecording>, HistoryError> {
+        let blob: Option<Vec<u8>> = self
+            .conn
+            .query_row(
+                "SELECT gzip_json FROM replays WHERE match_id = ?1",
+                params![id],
+                |r| r.get(0),
+            )
+            .map(Some)
+            .or_else(|e| match e {
+                rusqlite::Error::QueryReturnedNoRows => Ok(None),
+                e => Err(e),
+            })
+            .map_err(|e| self.sql(e))?;
+        let content = |what: String| HistoryError::Content {
+            path: self.path.clone(),
+            what: format!("the replay of match {id}: {what}"),
+        };
+        let Some(blob) = blob else {
+            return Ok(None);
+        };
+        let mut text = String::new();
+        flate2::read::GzDecoder::new(blob.as_slice())
+            .take(MAX_REPLAY_BYTES + 1)
+            .read_to_string(&mut text)
+            .map_err(|e| content(e.to_string()))?;
+        if text.len() as u64 > MAX_REPLAY_BYTES {
+            return Err(content(format!(
+                "larger than {} MiB uncompressed",
+                MAX_REPLAY_BYTES >> 20
+            )));
+        }
+        MatchRecording::from_json(&text)
+            .map(Some)
+            .map_err(|e| content(e.to_string()))
     }
 
     fn shots_of(&self, id: i64) -> Result<Vec<Shot>, HistoryError> {
@@ -291,6 +366,13 @@ impl HistoryStore {
     }
 }
 
+/// A recording as gzip-compressed JSON (a computer's match of some 6 MB takes some 20 kB).
+fn compress(r: &MatchRecording) -> std::io::Result<Vec<u8>> {
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    gz.write_all(r.to_json().as_bytes())?;
+    gz.finish()
+}
+
 fn side_word(side: Side) -> &'static str {
     match side {
         Side::Home => "home",
@@ -330,6 +412,7 @@ mod tests {
                     speed_m_s: v,
                 })
                 .collect(),
+            has_replay: false,
         }
     }
 
@@ -340,8 +423,8 @@ mod tests {
         let mut store = HistoryStore::open(&path).unwrap();
         let first = record([5, 3], &[2.5, 7.25, 0.5]);
         let second = record([1, 5], &[]);
-        let a = store.add(&first).unwrap();
-        let b = store.add(&second).unwrap();
+        let a = store.add(&first, None).unwrap();
+        let b = store.add(&second, None).unwrap();
         assert!(b > a);
         drop(store);
         let store = HistoryStore::open(&path).unwrap();
@@ -378,5 +461,50 @@ mod tests {
         drop(conn);
         let e = HistoryStore::open(&path).err().expect("refused");
         assert!(e.to_string().contains("newer"), "{e}");
+    }
+
+    #[test]
+    fn a_replay_comes_back_as_it_went_in_and_a_damaged_one_is_named() {
+        use space_foosball::rules::RulesConfig;
+        use space_foosball::Table;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("history.sqlite3");
+        let mut store = HistoryStore::open(&path).unwrap();
+        let rec = MatchRecording::of_poses(9, Table::standard(), RulesConfig::default());
+        let with = store.add(&record([2, 1], &[3.0]), Some(&rec)).unwrap();
+        let without = store.add(&record([0, 2], &[]), None).unwrap();
+        assert_eq!(store.replay(with).unwrap(), Some(rec));
+        assert_eq!(store.replay(without).unwrap(), None);
+        assert_eq!(store.replay(12345).unwrap(), None);
+        let listed = store.recent(10).unwrap();
+        assert_eq!(
+            listed
+                .iter()
+                .map(|m| (m.id, m.has_replay))
+                .collect::<Vec<_>>(),
+            [(without, false), (with, true)]
+        );
+        // Bytes that are not gzip, and gzip of what is not a recording: named, not a panic.
+        for blob in [vec![0u8, 0xff, 7], compress_text("{\"seed\": 1}")] {
+            store
+                .conn
+                .execute(
+                    "UPDATE replays SET gzip_json = ?1 WHERE match_id = ?2",
+                    params![blob, with],
+                )
+                .unwrap();
+            let e = store.replay(with).expect_err("refused");
+            assert!(
+                e.to_string()
+                    .contains(&format!("the replay of match {with}")),
+                "{e}"
+            );
+        }
+    }
+
+    fn compress_text(text: &str) -> Vec<u8> {
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+        gz.write_all(text.as_bytes()).unwrap();
+        gz.finish().unwrap()
     }
 }

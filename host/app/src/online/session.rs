@@ -12,6 +12,7 @@ use ggrs::{
 };
 use serde::Serialize;
 use space_foosball::play::{Match, MatchConfig, RodController, SavedMatch};
+use space_foosball::recording::MatchRecording;
 use space_foosball::rules::{Event, RulesConfig, TimedEvent};
 use space_foosball::side::Side;
 use space_foosball::Table;
@@ -142,7 +143,8 @@ fn save_recording(m: &Match, path: &std::path::Path) -> Result<()> {
 }
 
 /// Keeps a finished online match in the history at `path` (`events`: its kicks and end,
-/// as confirmed by both sides); one ended by `--max-frames` before its end is not kept.
+/// as confirmed by both sides), with its `replay`; one ended by `--max-frames` before its
+/// end is not kept.
 fn keep_in_history(
     events: &[TimedEvent],
     table: &Table,
@@ -150,6 +152,7 @@ fn keep_in_history(
     remote: SocketAddr,
     seed: u64,
     path: &std::path::Path,
+    replay: Option<&MatchRecording>,
 ) -> Result<()> {
     if !events
         .iter()
@@ -162,7 +165,7 @@ fn keep_in_history(
     teams[side.other().index()] = format!("peer {remote}");
     let record = MatchRecord::from_events(events, table, teams, Mode::Online, seed, now_unix_s())
         .context("the match's end is not among its events")?;
-    HistoryStore::open(path)?.add(&record)?;
+    HistoryStore::open(path)?.add(&record, replay)?;
     Ok(())
 }
 
@@ -313,6 +316,7 @@ impl OnlineMatch {
                 opts.remote,
                 opts.seed,
                 path,
+                Some(self.m.recording()),
             )?;
         }
         Ok(OnlineOutcome {
@@ -472,13 +476,13 @@ mod tests {
             event: Event::Kick { rod: 3, speed: 4.5 },
         };
         // Not over (ended by --max-frames): nothing kept.
-        keep_in_history(&[kick], &table, Side::Away, remote, 7, &db).unwrap();
+        keep_in_history(&[kick], &table, Side::Away, remote, 7, &db, None).unwrap();
         assert!(!db.exists());
         let over = TimedEvent {
             t_ms: 2000,
             event: Event::MatchOver { score: [0, 1] },
         };
-        keep_in_history(&[kick, over], &table, Side::Away, remote, 7, &db).unwrap();
+        keep_in_history(&[kick, over], &table, Side::Away, remote, 7, &db, None).unwrap();
         let kept = HistoryStore::open(&db).unwrap().recent(5).unwrap();
         assert_eq!(kept.len(), 1);
         assert_eq!(kept[0].mode, Mode::Online);

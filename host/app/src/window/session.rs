@@ -19,6 +19,7 @@
 use super::calibrate::Calibrator;
 use super::flow::{Action, Flow, Stage};
 use crate::history::played::{attract_lines, keep_in_background, PlayedMatch};
+use crate::history::MatchRecord;
 use board_link::{Board, BoardError, LinkState, LinkStats};
 use foosball_audio::Sound;
 use foosball_protocol::{InReport, OutReport};
@@ -131,6 +132,9 @@ pub struct Session {
     rest: MatchSnapshot,
     /// The match being played, for the history (not the attract screen's).
     played: Option<PlayedMatch>,
+    /// A finished match waiting for its recording from the physics thread, to be kept in
+    /// the history with its replay.
+    ended: Option<MatchRecord>,
     /// The history's lines on the attract screen (top scorers, fastest shot), renewed by
     /// the thread that keeps a finished match.
     attract_lines: Arc<Mutex<Vec<String>>>,
@@ -185,6 +189,7 @@ impl Session {
             notice: None,
             rest,
             played: None,
+            ended: None,
             attract_lines: Arc::new(Mutex::new(
                 history_path
                     .as_deref()
@@ -221,6 +226,7 @@ impl Session {
     }
 
     fn run_match(&mut self, config: MatchConfig) -> anyhow::Result<()> {
+        self.keep_ended();
         self.physics = None; // stops and joins the previous match
         self.played = None;
         self.scene.restart(&config.table);
@@ -276,6 +282,7 @@ impl Session {
 
     /// Enters calibration mode: the match stops, the guided motion starts with rod 1.
     pub fn start_calibration(&mut self) {
+        self.keep_ended();
         self.physics = None;
         self.played = None;
         self.calibrator = Some(Calibrator::new(&self.table, self.calibration));
@@ -447,12 +454,37 @@ impl Session {
         })
     }
 
-    /// Gathers the played match's kicks; once it is over, keeps it in the history.
+    /// Gathers the played match's kicks; once it is over, keeps it in the history with its
+    /// replay, as soon as the physics thread has left the match's recording.
     fn keep_when_over(&mut self, events: &[TimedEvent]) {
-        let over = self.played.as_mut().and_then(|p| p.take(events));
-        if let (Some(record), Some(path)) = (over, &self.options.history_path) {
+        if let Some(record) = self.played.as_mut().and_then(|p| p.take(events)) {
             self.played = None;
-            keep_in_background(path.clone(), record, Arc::clone(&self.attract_lines));
+            self.ended = Some(record);
+        }
+        let thread_ended = !self.physics.as_ref().is_some_and(PhysicsThread::is_running);
+        if self.ended.is_some() && thread_ended {
+            self.keep_ended();
+        }
+    }
+
+    /// Keeps the finished match waiting for its recording, with the recording where the
+    /// physics thread left one (a match left before its end is not kept: it has no record).
+    fn keep_ended(&mut self) {
+        let Some(record) = self.ended.take() else {
+            return;
+        };
+        let replay = self
+            .physics
+            .as_ref()
+            .and_then(PhysicsThread::take_recording)
+            .filter(|r| !r.is_empty());
+        if let Some(path) = &self.options.history_path {
+            keep_in_background(
+                path.clone(),
+                record,
+                replay,
+                Arc::clone(&self.attract_lines),
+            );
         }
     }
 

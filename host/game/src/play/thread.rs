@@ -16,6 +16,7 @@
 
 use super::{Match, MatchSnapshot};
 use crate::input::paddles::{InputHealth, RodInputs};
+use crate::recording::MatchRecording;
 use crate::rules::TimedEvent;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -66,6 +67,8 @@ pub struct ThreadStats {
 struct Shared {
     snapshots: Mutex<(MatchSnapshot, MatchSnapshot)>,
     events: Mutex<Vec<TimedEvent>>,
+    /// The match's recording, left here when the match is over.
+    recording: Mutex<Option<MatchRecording>>,
     stats: Mutex<ThreadStats>,
     paused: AtomicBool,
     stop: AtomicBool,
@@ -100,6 +103,7 @@ impl PhysicsThread {
         let shared = Arc::new(Shared {
             snapshots: Mutex::new((first.clone(), first)),
             events: Mutex::new(Vec::new()),
+            recording: Mutex::new(None),
             stats: Mutex::new(ThreadStats::default()),
             paused: AtomicBool::new(false),
             stop: AtomicBool::new(false),
@@ -120,6 +124,12 @@ impl PhysicsThread {
     /// The events since the last call.
     pub fn drain_events(&self) -> Vec<TimedEvent> {
         std::mem::take(&mut *lock(&self.shared.events))
+    }
+
+    /// The match's recording, once the match is over (the first call after that takes it;
+    /// `None` before, and after it is taken).
+    pub fn take_recording(&self) -> Option<MatchRecording> {
+        lock(&self.shared.recording).take()
     }
 
     /// Pauses (true) or resumes (false) the match.
@@ -240,6 +250,7 @@ fn run(
             due = 0;
         }
         if m.is_over() {
+            *lock(&shared.recording) = Some(m.recording().clone());
             break;
         }
         // Keep `due` small so the multiplication above never overflows.
