@@ -9,7 +9,11 @@
 //! substeps each: the same substep, so the solver's cost is unchanged, while collision and
 //! preparation run `n` times and each part's contacts are found where the links are then
 //! (what `vphys hard --finer N` measures). A half-space has one normal and no edge, so
-//! contacts with one do not split a step (a foosball man sweeping over the cloth).
+//! contacts with one do not split a step (a foosball man sweeping over the cloth); nor does
+//! a tree whose every coordinate follows a motor or prescribed motion (a servo-driven rod):
+//! it goes where its drives take it, within their force limits, and the contacts it meets
+//! on the way stop it through them, so the step is split for the falling and swinging
+//! trees that nothing holds.
 
 use super::world::World;
 use super::StepCounters;
@@ -25,8 +29,9 @@ fn tree_bit(tree: usize) -> u64 {
 }
 
 impl World {
-    /// Into how many parts this step is split: 1, unless a tree had a contact against static
-    /// geometry other than a half-space in the last step; then the farthest any of its link
+    /// Into how many parts this step is split: 1, unless a tree not driven in every
+    /// coordinate had a contact against static geometry other than a half-space in the last
+    /// step; then the farthest any of its link
     /// proxies' points travels over the step (`|v| + |ω| · reach`, m, at the step's start) in
     /// speculative distances, rounded up, within `1 ..= min(MAX_PARTS, substeps)` and
     /// dividing `substeps`.
@@ -47,7 +52,7 @@ impl World {
                 self.proxies[i as usize].is_none()
                     && matches!(self.bodies.shape[i as usize], Shape::HalfSpace { .. })
             });
-            if !plane {
+            if !plane && !self.articulated[tree].fully_driven() {
                 trees |= tree_bit(tree);
             }
         }

@@ -248,4 +248,14 @@ impl ArticulatedSystem {
     pub(crate) fn has_drives(&self) -> bool {
         !self.drives.is_empty()
     }
+
+    /// Whether every velocity coordinate has a motor or prescribed motion (a servo-driven
+    /// foosball rod): the tree moves where its drives take it.
+    pub(crate) fn fully_driven(&self) -> bool {
+        (0..self.qd.len()).all(|dof| {
+            self.drives.iter().any(|d| {
+                d.dof == dof && matches!(d.kind, DriveKind::Motor(_) | DriveKind::Prescribed(_))
+            })
+        })
+    }
 }
