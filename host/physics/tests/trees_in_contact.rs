@@ -430,3 +430,29 @@ fn a_fast_arm_on_stairs_steps_in_parts_that_add_up_to_the_step() {
     }
     assert!(split > 0, "no step of the falling arm was taken in parts");
 }
+
+/// Removing the stairs an arm lies on between steps (last step's contacts then name bodies
+/// that are gone or moved) neither panics nor stops the arm's steps.
+#[test]
+fn the_stairs_removed_under_a_falling_arm_leave_it_stepping() {
+    let scene = virtual_physics::scene::hard::arm_on_stairs(4, 0.3, 1.0, 0.2, 4);
+    let mut w = scene.build().expect("arm on stairs");
+    let mut split = false;
+    while !split && w.time() < 3.0 {
+        w.step().expect("step");
+        split = w.counters().parts > 1;
+    }
+    assert!(split, "the arm never took a step in parts");
+    let stairs: Vec<_> = w
+        .bodies()
+        .filter(|b| b.kind() == BodyKind::Fixed && b.shape().bounding_radius() > 0.0)
+        .map(|b| b.handle())
+        .collect();
+    assert!(!stairs.is_empty());
+    for h in stairs {
+        assert!(w.remove_body(h), "a stair");
+    }
+    for _ in 0..30 {
+        w.step().expect("step without the stairs");
+    }
+}

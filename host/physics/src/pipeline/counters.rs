@@ -115,8 +115,9 @@ pub struct StepCounters {
     /// Bodies in the islands whose contacts would lean (stiffened, on extra substeps where
     /// the stiffness cap asks for them).
     pub fine_bodies: usize,
-    /// Parts the step was taken in: 1, or more where a tree touching static geometry moved
-    /// farther in the step than its contacts see (`pipeline/step_parts.rs`).
+    /// Parts the step was taken in: 1, or more where a tree touching static geometry (and
+    /// not driven in every coordinate) moved farther in the step than its contacts see
+    /// (`pipeline/step_parts.rs`).
     pub parts: usize,
 }
 

@@ -31,10 +31,11 @@ fn tree_bit(tree: usize) -> u64 {
 impl World {
     /// Into how many parts this step is split: 1, unless a tree not driven in every
     /// coordinate had a contact against static geometry other than a half-space in the last
-    /// step; then the farthest any of its link
-    /// proxies' points travels over the step (`|v| + |ω| · reach`, m, at the step's start) in
-    /// speculative distances, rounded up, within `1 ..= min(MAX_PARTS, substeps)` and
-    /// dividing `substeps`.
+    /// step; then the farthest any of its link proxies' points travels over the step
+    /// (`|v| + |ω| · reach`, m, at the step's start) in speculative distances, rounded up,
+    /// within `1 ..= min(MAX_PARTS, substeps)` and dividing `substeps`. Last step's contacts
+    /// are read by index where they still name a manifold, a body and a tree (a body or tree
+    /// removed since leaves them pointing elsewhere; those are passed over).
     pub(super) fn step_parts(&self) -> usize {
         let substeps = self.settings.substeps.max(1);
         let spec = self.settings.speculative_distance;
@@ -47,12 +48,16 @@ impl World {
         // The trees with such a contact, a bit each (trees past the 64th share the last bit).
         let mut trees = 0u64;
         for (tree, mi) in self.tree_contacts.against_still() {
-            let m = &narrow.manifolds[mi];
+            let Some(m) = narrow.manifolds.get(mi) else {
+                continue;
+            };
             let plane = [m.a, m.b].iter().any(|&i| {
-                self.proxies[i as usize].is_none()
-                    && matches!(self.bodies.shape[i as usize], Shape::HalfSpace { .. })
+                let i = i as usize;
+                self.proxies.get(i).is_some_and(Option::is_none)
+                    && matches!(self.bodies.shape.get(i), Some(Shape::HalfSpace { .. }))
             });
-            if !plane && !self.articulated[tree].fully_driven() {
+            let driven = self.articulated.get(tree).is_none_or(|a| a.fully_driven());
+            if !plane && !driven {
                 trees |= tree_bit(tree);
             }
         }

@@ -126,7 +126,6 @@ fn side_of(bodies: &BodySet, proxies: &[Option<Proxy>], i: usize) -> Side {
 }
 
 impl TreeContacts {
-    /// Forgets last step's contacts.
     /// The trees' contacts of the last step that impulses act on against a body that does not
     /// move (static geometry, or a kinematic or sleeping body): `(tree, manifold index)`.
     pub(crate) fn against_still(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
@@ -138,6 +137,7 @@ impl TreeContacts {
         })
     }
 
+    /// Forgets last step's contacts.
     pub(crate) fn clear(&mut self) {
         self.contacts.clear();
         self.inert.clear();
