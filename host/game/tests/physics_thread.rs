@@ -100,3 +100,42 @@ fn a_lost_board_pauses_the_match_until_it_is_back() {
     assert!(!thread.latest().1.paused);
     assert!(thread.stop().is_some());
 }
+
+/// A match that ends on its thread leaves its recording behind (for the history's replay),
+/// once: every step of the match is in it.
+#[test]
+fn a_finished_match_leaves_its_recording() {
+    use space_foosball::play::ThreadOptions;
+    use space_foosball::rules::RulesConfig;
+    let table = Table::standard();
+    let mut config = MatchConfig::computer_vs_computer(table.clone(), 4);
+    config.rules = RulesConfig {
+        goals_to_win: 1,
+        ..RulesConfig::default()
+    };
+    let m = Match::new(config).unwrap();
+    let idle = idle_inputs(&table);
+    // As fast as the thread steps: the match's 10–90 s of match time in a few seconds.
+    let options = ThreadOptions {
+        period: Duration::from_micros(10),
+        max_catch_up_steps: 1_000_000,
+        ..ThreadOptions::default()
+    };
+    let thread = PhysicsThread::spawn_with(m, move || idle.clone(), options);
+    let start = Instant::now();
+    while thread.is_running() {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the match did not end"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let recording = thread
+        .take_recording()
+        .expect("the finished match's recording");
+    assert!(thread.take_recording().is_none(), "taken once");
+    let m = thread.stop().expect("the match comes back");
+    assert!(m.is_over());
+    assert_eq!(recording.len() as u64, m.time_ms());
+    assert_eq!(&recording, m.recording());
+}
