@@ -8,15 +8,15 @@ use crate::Real;
 #[derive(Clone, Debug)]
 pub struct Body<T: Real> {
     /// Name (for messages and the JSON description).
-    pub(crate) name: String,
+    pub name: String,
     /// Index of the parent body; `None`: attached to the fixed world frame.
-    pub(crate) parent: Option<usize>,
+    pub parent: Option<usize>,
     /// `M_i`: pose of the joint frame in the parent's body frame (or the world frame).
-    pub(crate) placement: SE3<T>,
+    pub placement: SE3<T>,
     /// The joint to the parent.
     pub(crate) joint: Box<dyn Joint<T>>,
     /// Inertia in the body frame.
-    pub(crate) inertia: Inertia<T>,
+    pub inertia: Inertia<T>,
     /// Offset of this joint's coordinates in the configuration vector `q`.
     pub(crate) q_offset: usize,
     /// Offset of this joint's velocity coordinates in `q̇`, `q̈`, `τ`.

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 pub struct JointDescription {
     /// Type name (`revolute`, `prismatic`, `cylindrical`, `universal`, `ball`, `free`, `fixed`).
     #[serde(rename = "type")]
-    pub(crate) kind: String,
+    pub kind: String,
     /// The (first) axis, joint frame.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axis: Option<[f64; 3]>,

@@ -88,7 +88,7 @@ impl<T: Real> ArticulatedTree<T> {
 
     /// The bodies, parents first.
     #[inline]
-    pub(crate) fn bodies(&self) -> &[Body<T>] {
+    pub fn bodies(&self) -> &[Body<T>] {
         &self.bodies
     }
 

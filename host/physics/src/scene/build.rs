@@ -21,7 +21,7 @@ impl ShapeDesc {
     /// The engine shape. A compound's parts get the default material and their stated mass
     /// (or density × volume, else 1 kg/m³ × volume): the geometry and the mass *ratios* of a
     /// scene's compound come from [`SceneFile::build`], which resolves named materials.
-    pub(crate) fn shape(&self) -> Shape {
+    pub fn shape(&self) -> Shape {
         match *self {
             ShapeDesc::Compound { ref parts } => {
                 compound(parts, None, |_| Material::default()).map_or_else(

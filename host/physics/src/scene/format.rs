@@ -342,11 +342,11 @@ pub struct JointLimitsDesc {
 #[serde(deny_unknown_fields)]
 pub struct ArticulatedDesc {
     /// Part 1's model description (its `gravity` is replaced by the scene's).
-    pub(crate) model: ModelDescription,
+    pub model: ModelDescription,
     /// Initial configuration (default: neutral).
     /// Each entry within ±1e5 (m or rad).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub(crate) q: Option<Vec<f64>>,
+    pub q: Option<Vec<f64>>,
     /// Initial velocity (default: zero).
     /// Each entry within ±1e4 (m/s or rad/s).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -354,7 +354,7 @@ pub struct ArticulatedDesc {
     /// Collision shapes fixed on links (with the `contacts` effect the links touch the
     /// scene's bodies and other trees' links). Several on one link make it a compound.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub(crate) shapes: Vec<LinkShapeDesc>,
+    pub shapes: Vec<LinkShapeDesc>,
     /// Motors, travel limits and prescribed motion of the joints' coordinates.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub(crate) drives: Vec<DriveDesc>,
@@ -365,15 +365,15 @@ pub struct ArticulatedDesc {
 #[serde(deny_unknown_fields)]
 pub struct LinkShapeDesc {
     /// The link (a body name of the model).
-    pub(crate) link: String,
+    pub link: String,
     /// The shape (a box, sphere, capsule or cylinder), centred on its own frame.
-    pub(crate) shape: ShapeDesc,
+    pub shape: ShapeDesc,
     /// Centre of the shape in the link frame (m).
     #[serde(default)]
-    pub(crate) position: [f64; 3],
+    pub position: [f64; 3],
     /// Orientation of the shape in the link frame, rotation vector (rad).
     #[serde(default)]
-    pub(crate) rotation: [f64; 3],
+    pub rotation: [f64; 3],
     /// Material name (default material when absent).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(crate) material: Option<String>,

@@ -17,7 +17,7 @@ pub const OMEGA0: [f64; 3] = [0.0, 5.0, 0.05];
 /// Simulated time (s).
 pub const DURATION: f64 = 10.0;
 /// Sample spacing of the comparison (s); every swept step divides it.
-pub(crate) const SAMPLE: f64 = 0.1;
+pub const SAMPLE: f64 = 0.1;
 
 /// A world with the box alone, the `gyroscopic` effect, one substep, the integrator `kind`.
 pub fn world(kind: IntegratorKind, dt: f64) -> World {

@@ -178,7 +178,7 @@ pub fn set_clock(clock: fn() -> f64) -> bool {
 }
 
 /// A reading of the cost columns' clock (s; see [`set_clock`]).
-pub(crate) fn cpu_seconds() -> f64 {
+pub fn cpu_seconds() -> f64 {
     match CLOCK.get() {
         Some(clock) => clock(),
         None => wall_seconds(),
