@@ -5,7 +5,7 @@ use std::process::Output;
 
 mod common;
 
-use common::{run, spinning_home_script};
+use common::{play_spinning_home, run};
 
 fn lines(out: &Output) -> Vec<serde_json::Value> {
     String::from_utf8(out.stdout.clone())
@@ -57,22 +57,7 @@ fn computer_against_computer_prints_events_and_ends_with_the_score() {
 fn a_scripted_board_plays_the_home_team() {
     let dir = tempfile::tempdir().unwrap();
     // Every Home rod spins for the whole match (counting starts after 1 s).
-    let script = spinning_home_script(dir.path());
-    let out = run(&[
-        "play",
-        "--headless",
-        "--seed",
-        "2",
-        "--goals",
-        "1",
-        "--script",
-        script.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = play_spinning_home(dir.path(), &[]);
     let events = lines(&out);
     assert_eq!(events.last().unwrap()["event"], "MatchOver");
     // The board's rods kicked the ball (rods 0, 1, 3, 5 are Home's).

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{run, spinning_home_script, BIN};
+use common::{play_spinning_home, run, run_ok, BIN};
 use serde_json::Value;
 use std::process::{Command, Stdio};
 use std::time::Duration;
@@ -24,30 +24,13 @@ fn history_json(db: &std::path::Path) -> Value {
 fn a_kept_match_s_replay_plays_it_again() {
     let dir = tempfile::tempdir().unwrap();
     let db = dir.path().join("history.sqlite3");
-    let script = spinning_home_script(dir.path());
-    let played = run(&[
-        "play",
-        "--headless",
-        "--seed",
-        "2",
-        "--goals",
-        "1",
-        "--script",
-        script.to_str().unwrap(),
-        "--history",
-        db.to_str().unwrap(),
-    ]);
-    assert!(
-        played.status.success(),
-        "{}",
-        String::from_utf8_lossy(&played.stderr)
-    );
+    let played = play_spinning_home(dir.path(), &["--history", db.to_str().unwrap()]);
     let h = history_json(&db);
     let m = &h["matches"][0];
     assert_eq!(m["has_replay"], true);
     let id = m["id"].as_i64().unwrap().to_string();
     let file = dir.path().join("replay.json");
-    let out = run(&[
+    run_ok(&[
         "history",
         "--history",
         db.to_str().unwrap(),
@@ -56,17 +39,7 @@ fn a_kept_match_s_replay_plays_it_again() {
         "--out",
         file.to_str().unwrap(),
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let replayed = run(&["replay", file.to_str().unwrap(), "--home", "player"]);
-    assert!(
-        replayed.status.success(),
-        "{}",
-        String::from_utf8_lossy(&replayed.stderr)
-    );
+    let replayed = run_ok(&["replay", file.to_str().unwrap(), "--home", "player"]);
     let (a, b) = (
         String::from_utf8(played.stdout).unwrap(),
         String::from_utf8(replayed.stdout).unwrap(),

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{run, spinning_home_script};
+use common::{play_spinning_home, run, run_ok};
 use std::process::Command;
 
 #[test]
@@ -159,30 +159,8 @@ fn replay_reproduces_the_recorded_match_events() {
     let rec = dir.path().join("match.json");
     // Home played through the emulated board by a script (every Home rod spinning),
     // so the recorded input decides the match.
-    let script = spinning_home_script(dir.path());
-    let played = run(&[
-        "play",
-        "--headless",
-        "--seed",
-        "2",
-        "--goals",
-        "1",
-        "--script",
-        script.to_str().unwrap(),
-        "--record",
-        rec.to_str().unwrap(),
-    ]);
-    assert!(
-        played.status.success(),
-        "{}",
-        String::from_utf8_lossy(&played.stderr)
-    );
-    let replayed = run(&["replay", rec.to_str().unwrap(), "--home", "player"]);
-    assert!(
-        replayed.status.success(),
-        "{}",
-        String::from_utf8_lossy(&replayed.stderr)
-    );
+    let played = play_spinning_home(dir.path(), &["--record", rec.to_str().unwrap()]);
+    let replayed = run_ok(&["replay", rec.to_str().unwrap(), "--home", "player"]);
     // Event for event, bit for bit (JSON keeps every digit).
     let (a, b) = (
         String::from_utf8(played.stdout).unwrap(),

@@ -33,3 +33,35 @@ pub fn spinning_home_script(dir: &std::path::Path) -> std::path::PathBuf {
     std::fs::write(&script, format!(r#"{{"rods":[{}]}}"#, tracks.join(","))).unwrap();
     script
 }
+
+/// Runs `space-foosball ARGS` as [`run`] does and fails the test, with its stderr, unless
+/// it succeeds.
+#[allow(dead_code)] // used by some of the test binaries that include this module
+pub fn run_ok(args: &[&str]) -> Output {
+    let out = run(args);
+    assert!(
+        out.status.success(),
+        "space-foosball {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+/// Plays a one-goal headless match (seed 2) in which Home plays through the emulated board
+/// from [`spinning_home_script`] (written in `dir`), with `extra` arguments; its output.
+#[allow(dead_code)] // used by some of the test binaries that include this module
+pub fn play_spinning_home(dir: &std::path::Path, extra: &[&str]) -> Output {
+    let script = spinning_home_script(dir);
+    let mut args = vec![
+        "play",
+        "--headless",
+        "--seed",
+        "2",
+        "--goals",
+        "1",
+        "--script",
+        script.to_str().expect("a UTF-8 path"),
+    ];
+    args.extend_from_slice(extra);
+    run_ok(&args)
+}
