@@ -13,6 +13,7 @@ use crate::rules::RulesConfig;
 use crate::table::Table;
 use foosball_protocol::InReport;
 use serde::{Deserialize, Serialize};
+use std::io::Read;
 use std::path::Path;
 
 /// The `format` string of recordings.
@@ -36,6 +37,10 @@ pub enum RecordingError {
     #[error("recording is malformed: {0}")]
     Malformed(String),
 }
+
+/// Largest recording loaded (bytes of JSON): the longest headless match (an hour of match
+/// time at up to some 7.7 MB a minute) with room to spare.
+pub const MAX_RECORDING_BYTES: u64 = 1 << 30;
 
 /// The per-step input.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -239,12 +244,32 @@ impl MatchRecording {
         })
     }
 
-    /// Loads and validates.
+    /// Loads and validates; a file larger than [`MAX_RECORDING_BYTES`] is refused before it
+    /// is read.
     pub fn load(path: &Path) -> Result<Self, RecordingError> {
-        let text = std::fs::read_to_string(path).map_err(|source| RecordingError::Io {
+        let io = |source| RecordingError::Io {
             path: path.display().to_string(),
             source,
-        })?;
+        };
+        let too_large = || {
+            RecordingError::Malformed(format!(
+                "{} is larger than {} MiB",
+                path.display(),
+                MAX_RECORDING_BYTES >> 20
+            ))
+        };
+        let file = std::fs::File::open(path).map_err(io)?;
+        if file.metadata().map_err(io)?.len() > MAX_RECORDING_BYTES {
+            return Err(too_large());
+        }
+        // Read to the bound only: a file that grows while it is read stays within it.
+        let mut text = String::new();
+        file.take(MAX_RECORDING_BYTES + 1)
+            .read_to_string(&mut text)
+            .map_err(io)?;
+        if text.len() as u64 > MAX_RECORDING_BYTES {
+            return Err(too_large());
+        }
         Self::from_json(&text)
     }
 }
@@ -255,6 +280,18 @@ mod tests {
     use crate::input::calibration::Calibration;
     use crate::input::paddles::PaddleTracker;
     use foosball_protocol::{PaddleMotion, PaddleStatus};
+
+    #[test]
+    fn a_file_past_the_bound_is_refused_before_it_is_read() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("huge.json");
+        // Sparse: its length past the bound, nothing written.
+        let f = std::fs::File::create(&path).unwrap();
+        f.set_len(MAX_RECORDING_BYTES + 1).unwrap();
+        drop(f);
+        let err = MatchRecording::load(&path).unwrap_err();
+        assert!(err.to_string().contains("larger than 1024 MiB"), "{err}");
+    }
 
     #[test]
     fn poses_round_trip_bit_exactly() {

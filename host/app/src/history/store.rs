@@ -22,9 +22,8 @@ use std::time::Duration;
 /// matches).
 const SCHEMA_VERSION: i64 = 2;
 
-/// Largest replay read back, uncompressed (bytes): a recording of the longest match the
-/// game plays is some 50 MB.
-const MAX_REPLAY_BYTES: u64 = 256 << 20;
+/// Largest replay read back, uncompressed (bytes): the largest recording the game loads.
+const MAX_REPLAY_BYTES: u64 = space_foosball::recording::MAX_RECORDING_BYTES;
 
 /// Longest a writer waits for another process's write to finish.
 const BUSY_TIMEOUT: Duration = Duration::from_secs(5);
