@@ -11,7 +11,7 @@
 //! transaction.
 
 use super::record::{MatchRecord, Mode, Shot};
-use rusqlite::{params, Connection, OpenFlags};
+use rusqlite::{params, Connection, OpenFlags, OptionalExtension};
 use space_foosball::recording::MatchRecording;
 use space_foosball::side::Side;
 use std::io::{Read, Write};
@@ -171,7 +171,7 @@ impl HistoryStore {
         replay: Option<&MatchRecording>,
     ) -> Result<i64, HistoryError> {
         let replay = replay
-            .map(compress)
+            .map(|r| compress(&r.to_json()))
             .transpose()
             .map_err(|e| HistoryError::Content {
                 path: self.path.clone(),
@@ -293,11 +293,7 @@ impl HistoryStore {
                 params![id],
                 |r| r.get(0),
             )
-            .map(Some)
-            .or_else(|e| match e {
-                rusqlite::Error::QueryReturnedNoRows => Ok(None),
-                e => Err(e),
-            })
+            .optional()
             .map_err(|e| self.sql(e))?;
         let content = |what: String| HistoryError::Content {
             path: self.path.clone(),
@@ -365,10 +361,10 @@ impl HistoryStore {
     }
 }
 
-/// A recording as gzip-compressed JSON (a computer's match of some 6 MB takes some 20 kB).
-fn compress(r: &MatchRecording) -> std::io::Result<Vec<u8>> {
+/// A recording's JSON, gzip-compressed.
+fn compress(json: &str) -> std::io::Result<Vec<u8>> {
     let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
-    gz.write_all(r.to_json().as_bytes())?;
+    gz.write_all(json.as_bytes())?;
     gz.finish()
 }
 
@@ -484,7 +480,7 @@ mod tests {
             [(without, false), (with, true)]
         );
         // Bytes that are not gzip, and gzip of what is not a recording: named, not a panic.
-        for blob in [vec![0u8, 0xff, 7], compress_text("{\"seed\": 1}")] {
+        for blob in [vec![0u8, 0xff, 7], compress("{\"seed\": 1}").unwrap()] {
             store
                 .conn
                 .execute(
@@ -499,11 +495,5 @@ mod tests {
                 "{e}"
             );
         }
-    }
-
-    fn compress_text(text: &str) -> Vec<u8> {
-        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
-        gz.write_all(text.as_bytes()).unwrap();
-        gz.finish().unwrap()
     }
 }
