@@ -38,8 +38,8 @@ pub enum RecordingError {
     Malformed(String),
 }
 
-/// Largest recording loaded (bytes of JSON): the longest headless match (an hour of match
-/// time at up to some 7.7 MB a minute) with room to spare.
+/// Largest recording loaded (bytes of JSON): room for the longest headless match (an hour
+/// of match time, `MAX_MATCH_MS` of `play --headless`) recorded at the board's report rate.
 pub const MAX_RECORDING_BYTES: u64 = 1 << 30;
 
 /// The per-step input.

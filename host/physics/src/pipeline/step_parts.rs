@@ -45,9 +45,21 @@ impl World {
         if self.tree_contacts.contacts.is_empty() || substeps < 2 || spec <= 0.0 {
             return 1;
         }
-        // The trees with such a contact, a bit each (trees past the 64th share the last bit).
-        let mut trees = 0u64;
+        // The trees with such a contact, a bit each (trees past the 63rd share the last bit,
+        // and all their proxies are measured); the trees driven in every coordinate, found
+        // once each (those past the 63rd asked each time: their bit is not theirs alone).
+        let (mut trees, mut driven) = (0u64, 0u64);
         for (tree, mi) in self.tree_contacts.against_still() {
+            let bit = tree_bit(tree);
+            if (trees | driven) & bit != 0 {
+                continue;
+            }
+            if self.articulated.get(tree).is_none_or(|a| a.fully_driven()) {
+                if tree < 63 {
+                    driven |= bit;
+                }
+                continue;
+            }
             let Some(m) = narrow.manifolds.get(mi) else {
                 continue;
             };
@@ -56,9 +68,8 @@ impl World {
                 self.proxies.get(i).is_some_and(Option::is_none)
                     && matches!(self.bodies.shape.get(i), Some(Shape::HalfSpace { .. }))
             });
-            let driven = self.articulated.get(tree).is_none_or(|a| a.fully_driven());
-            if !plane && !driven {
-                trees |= tree_bit(tree);
+            if !plane {
+                trees |= bit;
             }
         }
         if trees == 0 {
