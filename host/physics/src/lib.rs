@@ -45,6 +45,66 @@
 //!   is `−`, as Appendix A writes it.)
 //! * SI units: m, kg, s, rad, N, N·m.
 
+/// Re-exports with the `measure` feature, crate-internal without it: the comparison and
+/// benchmark surface (the paper's algorithms as free functions, collision as pure functions,
+/// reference models and scenes, the step's counters) that `vphys`, the tests and the
+/// benchmarks read and a game does not.
+macro_rules! measure_use {
+    ($($path:tt)*) => {
+        #[cfg(feature = "measure")]
+        pub use $($path)*;
+        #[cfg(not(feature = "measure"))]
+        #[allow(unused_imports)]
+        pub(crate) use $($path)*;
+    };
+}
+/// A function public with the `measure` feature and crate-internal without it (one that the
+/// engine uses itself and whose public form belongs to the `measure` surface).
+macro_rules! measure_pub_fn {
+    ($(#[$attr:meta])* fn $name:ident $($rest:tt)*) => {
+        $(#[$attr])*
+        #[cfg(feature = "measure")]
+        pub fn $name $($rest)*
+        $(#[$attr])*
+        #[cfg(not(feature = "measure"))]
+        pub(crate) fn $name $($rest)*
+    };
+}
+
+/// A struct whose fields are public with the `measure` feature and crate-internal without it:
+/// the data of a file format that `vphys`, the tests and the benchmarks edit field by field,
+/// while a game loads, checks and builds it whole. `measure struct` makes the struct itself
+/// public only with the feature.
+macro_rules! measure_pub_fields {
+    (
+        $(#[$sattr:meta])*
+        pub struct $name:ident { $( $(#[$fattr:meta])* $field:ident : $ty:ty ),* $(,)? }
+    ) => {
+        $(#[$sattr])*
+        pub struct $name {
+            $(
+                $(#[$fattr])*
+                #[cfg(feature = "measure")]
+                pub $field: $ty,
+                $(#[$fattr])*
+                #[cfg(not(feature = "measure"))]
+                pub(crate) $field: $ty,
+            )*
+        }
+    };
+    (
+        $(#[$sattr:meta])*
+        measure struct $name:ident { $( $(#[$fattr:meta])* $field:ident : $ty:ty ),* $(,)? }
+    ) => {
+        #[cfg(feature = "measure")]
+        $(#[$sattr])*
+        pub struct $name { $( $(#[$fattr])* pub $field: $ty, )* }
+        #[cfg(not(feature = "measure"))]
+        $(#[$sattr])*
+        pub(crate) struct $name { $( $(#[$fattr])* pub(crate) $field: $ty, )* }
+    };
+}
+
 pub mod algebra;
 pub mod dynamics;
 #[cfg(feature = "measure")]

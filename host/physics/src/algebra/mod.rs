@@ -6,7 +6,7 @@
 //! | [`se3`] | twist `(w, v)`, angular first | 6 |
 //! | [`dse3`] | wrench `(m, f)`, moment first | 6 |
 //! | [`Inertia`] | rigid-body inertia: mass, first moment, rotational | 10 |
-//! | [`AInertia`] | articulated inertia, symmetric 6×6 | 21 |
+//! | `AInertia` (public with the `measure` feature) | articulated inertia, symmetric 6×6 | 21 |
 //!
 //! nalgebra provides the 3-vectors ([`Vec3`]) and 3×3 blocks ([`Mat3`]); the arithmetic on them
 //! is written out component by component in small kernels so that every multiplication and
@@ -17,13 +17,14 @@
 mod ainertia;
 mod inertia;
 mod kernels;
+#[cfg(feature = "measure")]
 pub mod paper;
 mod se3_group;
 mod sym3;
 mod twist;
 mod wrench;
 
-pub use ainertia::AInertia;
+measure_use!(ainertia::AInertia);
 pub use inertia::Inertia;
 pub(crate) use se3_group::{exp_series, exp_translation, rotation_rows, SERIES_THETA2};
 pub use se3_group::{exp_so3, log_so3, SE3};

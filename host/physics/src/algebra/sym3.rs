@@ -5,21 +5,21 @@ use crate::Real;
 use core::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 
 /// A symmetric 3×3 matrix (6 scalars): rotational inertia blocks (kg·m²), the symmetric blocks
-/// of [`AInertia`](super::AInertia).
+/// of the articulated inertia `AInertia`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sym3<T: Real> {
     /// Entry (0,0).
-    pub(crate) xx: T,
+    pub xx: T,
     /// Entry (1,1).
     pub yy: T,
     /// Entry (2,2).
-    pub(crate) zz: T,
+    pub zz: T,
     /// Entries (0,1) = (1,0).
-    pub(crate) xy: T,
+    pub xy: T,
     /// Entries (0,2) = (2,0).
-    pub(crate) xz: T,
+    pub xz: T,
     /// Entries (1,2) = (2,1).
-    pub(crate) yz: T,
+    pub yz: T,
 }
 
 impl<T: Real> Sym3<T> {
@@ -55,19 +55,6 @@ impl<T: Real> Sym3<T> {
     pub fn diagonal(d: &Vec3<T>) -> Self {
         let z = T::zero();
         Self::new(d.x, d.y, d.z, z, z, z)
-    }
-
-    /// The symmetric part `(A + Aᵀ)/2` of a full matrix.
-    pub fn from_matrix(a: &Mat3<T>) -> Self {
-        let h = T::from_f64(0.5);
-        Self::new(
-            a[(0, 0)],
-            a[(1, 1)],
-            a[(2, 2)],
-            h * (a[(0, 1)] + a[(1, 0)]),
-            h * (a[(0, 2)] + a[(2, 0)]),
-            h * (a[(1, 2)] + a[(2, 1)]),
-        )
     }
 
     /// As a full nalgebra matrix.
@@ -121,12 +108,6 @@ impl<T: Real> Sym3<T> {
             rc(0, &c2),
             rc(1, &c2),
         )
-    }
-
-    /// Trace — 2+.
-    #[inline]
-    pub fn trace(&self) -> T {
-        self.xx + self.yy + self.zz
     }
 }
 

@@ -52,6 +52,7 @@ pub(crate) fn cholesky_substitute<T: Real>(l: &[T], n: usize, x: &mut [T]) {
 
 /// Solves `A x = b` for a symmetric positive-definite row-major `n×n` matrix `a`
 /// (overwritten by its factor); `b` is overwritten by `x`.
+#[cfg_attr(not(feature = "measure"), allow(dead_code))]
 pub fn cholesky_solve<T: Real>(a: &mut [T], n: usize, b: &mut [T]) -> Result<(), CholeskyError> {
     cholesky_in_place(a, n)?;
     cholesky_substitute(a, n, b);

@@ -12,6 +12,7 @@ use crate::Real;
 /// `V̇_i = Ad_{f_i⁻¹} V̇_λ + S_i q̈_i + ad_{V_i} S_i q̇_i (+ Ṡ_i q̇_i)`,
 /// `F_i = J_i V̇_i − ad*_{V_i} J_i V_i − F^ext_i` (Eq. 3); backward: `τ_i = S_iᵀ F_i`,
 /// `F_λ += Ad*_{f_i⁻¹} F_i`.
+#[cfg_attr(not(feature = "measure"), allow(dead_code))]
 pub fn rnea<T: Real>(
     model: &ArticulatedTree<T>,
     ws: &mut Workspace<T>,

@@ -65,16 +65,19 @@ impl<T: Real> Workspace<T> {
     }
 
     /// Body frames relative to their parents from the last call (`f_{λ(i),i}`).
+    #[cfg_attr(not(feature = "measure"), allow(dead_code))]
     pub fn parent_transforms(&self) -> &[SE3<T>] {
         &self.f
     }
 
     /// Body velocities from the last call (body frames).
+    #[cfg_attr(not(feature = "measure"), allow(dead_code))]
     pub fn velocities(&self) -> &[se3<T>] {
         &self.v
     }
 
     /// Body accelerations from the last call (body frames, gravity included as `V̇₀ = −g`).
+    #[cfg_attr(not(feature = "measure"), allow(dead_code))]
     pub fn accelerations(&self) -> &[se3<T>] {
         &self.a
     }

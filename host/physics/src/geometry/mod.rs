@@ -3,10 +3,11 @@
 //!
 //! Public: [`Shape`] — the five primitive shapes, their bounding boxes and mass properties;
 //! [`Compound`] — several posed primitives with their materials as one shape; [`Material`] —
-//! surface properties (friction, restitution, rolling resistance); and collision as pure
-//! functions of posed shapes: [`collide`] (any pair into a [`Manifold`]), [`box_box`]
-//! (separating-axis test with face clipping, up to 4 points) and [`sphere_cast`] (the time of
-//! impact of a sphere swept along a line).
+//! surface properties (friction, restitution, rolling resistance). With the `measure` feature
+//! (for `vphys`, the tests and the peers' comparisons), also collision as pure functions of
+//! posed shapes: `collide` (any pair into a `Manifold`), `box_box` (separating-axis test with
+//! face clipping, up to 4 points) and `sphere_cast` (the time of impact of a sphere swept
+//! along a line).
 //!
 //! Crate-internal: `broad_phase` (a uniform grid; half-spaces tested against every body),
 //! `narrow_phase` (pair dispatch and persistent manifolds, warm-start data matched by feature
@@ -29,18 +30,19 @@ pub(crate) mod primitives;
 mod shape;
 mod toi;
 
-pub use box_box::{box_box, BoxPose};
+measure_use!(box_box::{box_box, BoxPose});
 pub(crate) use broad_phase::BroadPhase;
 pub(crate) use collision_bodies::CollisionBodies;
 pub use compound::{Compound, CompoundError, CompoundMass, Part, PartDesc};
 pub(crate) use contact::MAX_MANIFOLD_POINTS;
-pub use contact::{ContactPoint, Manifold};
+measure_use!(contact::{ContactPoint, Manifold});
 pub(crate) use manifold_refresh::PairPose;
 pub use material::Material;
-pub use narrow_phase::collide;
+measure_use!(narrow_phase::collide);
 pub(crate) use narrow_phase::{BodyMotion, NarrowPhase};
-pub use shape::{Aabb, Shape};
-pub use toi::{sphere_cast, Impact};
+pub(crate) use shape::Aabb;
+pub use shape::Shape;
+measure_use!(toi::{sphere_cast, Impact});
 
 /// 3-vector, f64 (m, m/s, …).
 pub(crate) type V3 = nalgebra::Vector3<f64>;

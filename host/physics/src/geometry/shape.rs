@@ -50,7 +50,7 @@ pub enum Shape {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
     /// Lower corner.
-    pub min: V3,
+    pub(crate) min: V3,
     /// Upper corner.
     pub(crate) max: V3,
 }
@@ -58,7 +58,7 @@ pub struct Aabb {
 impl Aabb {
     /// Whether two boxes overlap (closed).
     #[inline]
-    pub fn overlaps(&self, o: &Aabb) -> bool {
+    pub(crate) fn overlaps(&self, o: &Aabb) -> bool {
         self.min.x <= o.max.x
             && o.min.x <= self.max.x
             && self.min.y <= o.max.y
@@ -160,7 +160,7 @@ impl Shape {
     }
 
     /// Bounding box for pose `(r, p)` (world from body). A half-space gets an infinite box.
-    pub fn aabb(&self, r: &M3, p: &V3) -> Aabb {
+    pub(crate) fn aabb(&self, r: &M3, p: &V3) -> Aabb {
         let ext = match *self {
             Shape::Cuboid { half } => r.abs() * half,
             Shape::Sphere { radius } => V3::repeat(radius),

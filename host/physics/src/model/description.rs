@@ -15,56 +15,64 @@
 
 use serde::{Deserialize, Serialize};
 
-pub use super::joint_description::JointDescription;
+measure_use!(super::joint_description::JointDescription);
 use super::joints::from_description;
 use super::{ArticulatedTree, ModelError};
 use crate::algebra::{Inertia, Mat3, Sym3, Vec3, SE3};
 use crate::Real;
 
-/// A rigid transform: row-major rotation and translation (m).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub(crate) struct PlacementDescription {
-    /// Rotation matrix, rows.
-    pub(crate) rotation: [[f64; 3]; 3],
-    /// Translation (m).
-    pub(crate) translation: [f64; 3],
+measure_pub_fields! {
+    /// A rigid transform: row-major rotation and translation (m).
+    #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+    measure struct PlacementDescription {
+        /// Rotation matrix, rows.
+        rotation: [[f64; 3]; 3],
+        /// Translation (m).
+        translation: [f64; 3],
+    }
 }
 
-/// Mass properties.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct InertiaDescription {
-    /// Mass (kg).
-    pub mass: f64,
-    /// Centre of mass in the body frame (m).
-    pub com: [f64; 3],
-    /// Rotational inertia about the centre of mass, body axes, `[xx, yy, zz, xy, xz, yz]` (kg·m²).
-    pub inertia_com: [f64; 6],
+measure_pub_fields! {
+    /// Mass properties.
+    #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+    measure struct InertiaDescription {
+        /// Mass (kg).
+        mass: f64,
+        /// Centre of mass in the body frame (m).
+        com: [f64; 3],
+        /// Rotational inertia about the centre of mass, body axes, `[xx, yy, zz, xy, xz, yz]` (kg·m²).
+        inertia_com: [f64; 6],
+    }
 }
 
-/// One body.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct BodyDescription {
-    /// Name.
-    pub(crate) name: String,
-    /// Parent body index, `None` for the world.
-    pub parent: Option<usize>,
-    /// The joint to the parent.
-    pub joint: JointDescription,
-    /// Joint frame in the parent frame.
-    pub(crate) placement: PlacementDescription,
-    /// Mass properties in the body frame.
-    pub inertia: InertiaDescription,
+measure_pub_fields! {
+    /// One body.
+    #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+    measure struct BodyDescription {
+        /// Name.
+        name: String,
+        /// Parent body index, `None` for the world.
+        parent: Option<usize>,
+        /// The joint to the parent.
+        joint: JointDescription,
+        /// Joint frame in the parent frame.
+        placement: PlacementDescription,
+        /// Mass properties in the body frame.
+        inertia: InertiaDescription,
+    }
 }
 
-/// A whole articulated tree.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ModelDescription {
-    /// Model name.
-    pub name: String,
-    /// Gravity, world frame (m/s²).
-    pub gravity: [f64; 3],
-    /// Bodies, parents first.
-    pub bodies: Vec<BodyDescription>,
+measure_pub_fields! {
+    /// A whole articulated tree.
+    #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+    pub struct ModelDescription {
+        /// Model name.
+        name: String,
+        /// Gravity, world frame (m/s²).
+        gravity: [f64; 3],
+        /// Bodies, parents first.
+        bodies: Vec<BodyDescription>,
+    }
 }
 
 fn v3<T: Real>(a: [f64; 3]) -> Vec3<T> {

@@ -15,7 +15,7 @@ pub struct JointDescription {
     pub axis: Option<[f64; 3]>,
     /// The second axis (universal joint).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub(crate) axis2: Option<[f64; 3]>,
+    pub axis2: Option<[f64; 3]>,
 }
 
 impl JointDescription {

@@ -10,7 +10,10 @@
 //! in its body frame.
 
 mod body;
+#[cfg(feature = "measure")]
 pub mod builders;
+#[cfg(all(test, not(feature = "measure")))]
+mod builders;
 pub mod description;
 mod error;
 mod joint_description;

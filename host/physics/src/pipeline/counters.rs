@@ -31,6 +31,7 @@ pub enum Stage {
     Islands,
 }
 
+#[cfg_attr(not(feature = "measure"), allow(dead_code))]
 impl Stage {
     /// All stages.
     pub(crate) const ALL: [Stage; 13] = [
@@ -129,11 +130,13 @@ impl StepCounters {
     }
 
     /// Whether stage `s` ran.
+    #[cfg_attr(not(feature = "measure"), allow(dead_code))]
     pub fn ran(&self, s: Stage) -> bool {
         self.stages & (1 << s as u32) != 0
     }
 
     /// The stages that ran.
+    #[cfg_attr(not(feature = "measure"), allow(dead_code))]
     pub fn stages(&self) -> impl Iterator<Item = Stage> + '_ {
         Stage::ALL.into_iter().filter(|s| self.ran(*s))
     }

@@ -1,7 +1,7 @@
 //! The step pipeline, assembled from the scene's declared effects.
 //!
 //! * [`Effects`] — the effect set a scene declares.
-//! * [`StepCounters`] — what the last step did (stages run, pairs tested, contacts, iterations).
+//! * `StepCounters` (public with the `measure` feature) — what the last step did (stages run, pairs tested, contacts, iterations).
 //! * `integrator` — the five free-body integrators (semi-implicit Euler with `T ← T·Exp(hV)` by
 //!   default), selectable per scene.
 //! * `pose_lanes` — the default pose stage `T ← T·Exp(hV)`, four bodies at a time.
@@ -47,7 +47,7 @@ mod world_guard;
 
 pub use articulated::ArticulatedSystem;
 pub use body_builder::{BodyBuilder, DEFAULT_DENSITY};
-pub use counters::{Stage, StepCounters};
+measure_use!(counters::{Stage, StepCounters});
 pub use drives::{DriveKind, Motor, Trajectory};
 pub use effects::{Effect, Effects};
 pub use handles::{BodyHandle, JointHandle, LinkHandle, TreeHandle};

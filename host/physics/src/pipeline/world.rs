@@ -205,9 +205,11 @@ impl World {
         self.joint_slots.insert()
     }
 
-    /// Whether the world has a broad phase (the `contacts` effect).
-    pub fn has_broad_phase(&self) -> bool {
-        self.broad.is_some()
+    measure_pub_fn! {
+        /// Whether the world has a broad phase (the `contacts` effect).
+        fn has_broad_phase(&self) -> bool {
+            self.broad.is_some()
+        }
     }
 
     /// The current contact manifolds (empty without contacts).

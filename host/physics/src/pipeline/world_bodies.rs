@@ -25,78 +25,72 @@ pub struct BodyMut<'w> {
     handle: BodyHandle,
 }
 
-macro_rules! body_getters {
-    () => {
-        /// Its handle.
-        pub fn handle(&self) -> BodyHandle {
-            self.handle
-        }
-
-        /// How it moves.
-        pub fn kind(&self) -> BodyKind {
-            self.set.kind[self.i]
-        }
-
-        /// Its surface properties (a compound's parts have their own).
-        pub fn material(&self) -> Material {
-            self.set.material[self.i]
-        }
-
-        /// Centre of mass (m, world).
-        pub fn position(&self) -> V3 {
-            self.set.pos[self.i]
-        }
-
-        /// Rotation world from body.
-        pub fn rotation(&self) -> M3 {
-            self.set.rot[self.i]
-        }
-
-        /// Pose of the body frame in the world, `T_wb`.
-        pub fn pose(&self) -> SE3<f64> {
-            SE3::new(self.set.rot[self.i], self.set.pos[self.i])
-        }
-
-        /// Linear velocity of the centre of mass (m/s, world).
-        pub fn linear_velocity(&self) -> V3 {
-            self.set.vel[self.i]
-        }
-
-        /// Angular velocity (rad/s, world).
-        pub fn angular_velocity(&self) -> V3 {
-            self.set.omega[self.i]
-        }
-
-        /// Velocity of the world point `p` moving with the body (m/s, world).
-        pub fn point_velocity(&self, p: &V3) -> V3 {
-            self.set.vel[self.i] + self.set.omega[self.i].cross(&(p - self.set.pos[self.i]))
-        }
-
-        /// Mass (kg); infinite for kinematic and fixed bodies.
-        pub fn mass(&self) -> f64 {
-            self.set.mass(self.i)
-        }
-
-        /// Principal moments of inertia about the centre of mass (kg·m², body axes); zero for
-        /// kinematic and fixed bodies.
-        pub fn principal_inertia(&self) -> V3 {
-            self.set.inertia[self.i]
-        }
-
-        /// Whether it is simulated this step (dynamic and not asleep).
-        pub fn is_awake(&self) -> bool {
-            self.set.awake[self.i]
-        }
-
-        /// The applied external force (N, world) and torque (N·m, world).
-        pub fn applied(&self) -> (V3, V3) {
-            (self.set.force[self.i], self.set.torque[self.i])
-        }
-    };
-}
-
 impl<'w> BodyRef<'w> {
-    body_getters!();
+    /// Its handle.
+    pub fn handle(&self) -> BodyHandle {
+        self.handle
+    }
+
+    /// How it moves.
+    pub fn kind(&self) -> BodyKind {
+        self.set.kind[self.i]
+    }
+
+    /// Its surface properties (a compound's parts have their own).
+    pub fn material(&self) -> Material {
+        self.set.material[self.i]
+    }
+
+    /// Centre of mass (m, world).
+    pub fn position(&self) -> V3 {
+        self.set.pos[self.i]
+    }
+
+    /// Rotation world from body.
+    pub fn rotation(&self) -> M3 {
+        self.set.rot[self.i]
+    }
+
+    /// Pose of the body frame in the world, `T_wb`.
+    pub fn pose(&self) -> SE3<f64> {
+        SE3::new(self.set.rot[self.i], self.set.pos[self.i])
+    }
+
+    /// Linear velocity of the centre of mass (m/s, world).
+    pub fn linear_velocity(&self) -> V3 {
+        self.set.vel[self.i]
+    }
+
+    /// Angular velocity (rad/s, world).
+    pub fn angular_velocity(&self) -> V3 {
+        self.set.omega[self.i]
+    }
+
+    /// Velocity of the world point `p` moving with the body (m/s, world).
+    pub fn point_velocity(&self, p: &V3) -> V3 {
+        self.set.vel[self.i] + self.set.omega[self.i].cross(&(p - self.set.pos[self.i]))
+    }
+
+    /// Mass (kg); infinite for kinematic and fixed bodies.
+    pub fn mass(&self) -> f64 {
+        self.set.mass(self.i)
+    }
+
+    /// Principal moments of inertia about the centre of mass (kg·m², body axes); zero for
+    /// kinematic and fixed bodies.
+    pub fn principal_inertia(&self) -> V3 {
+        self.set.inertia[self.i]
+    }
+
+    /// Whether it is simulated this step (dynamic and not asleep).
+    pub fn is_awake(&self) -> bool {
+        self.set.awake[self.i]
+    }
+
+    /// The applied external force (N, world) and torque (N·m, world).
+    pub fn applied(&self) -> (V3, V3) {
+        (self.set.force[self.i], self.set.torque[self.i])
+    }
 
     /// Its name (empty when none was given).
     pub fn name(&self) -> &'w str {
@@ -110,16 +104,13 @@ impl<'w> BodyRef<'w> {
 }
 
 impl BodyMut<'_> {
-    body_getters!();
-
-    /// Its name (empty when none was given).
-    pub fn name(&self) -> &str {
-        &self.set.name[self.i]
-    }
-
-    /// Its shape, in the body frame.
-    pub fn shape(&self) -> &Shape {
-        &self.set.shape[self.i]
+    /// The body read-only: its pose, velocities, mass and the rest of [`BodyRef`]'s reads.
+    pub fn read(&self) -> BodyRef<'_> {
+        BodyRef {
+            set: self.set,
+            i: self.i,
+            handle: self.handle,
+        }
     }
 
     /// Places the centre of mass (m, world); wakes the body.

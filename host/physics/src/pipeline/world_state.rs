@@ -2,7 +2,9 @@
 
 use super::world::World;
 use crate::geometry::V3;
-use crate::pipeline::{Effects, SolverSettings, StepCounters};
+#[cfg(feature = "measure")]
+use crate::pipeline::StepCounters;
+use crate::pipeline::{Effects, SolverSettings};
 
 impl World {
     /// The step (s).
@@ -59,6 +61,7 @@ impl World {
     }
 
     /// What the last step did: stages run, pairs tested, contacts, iterations.
+    #[cfg(feature = "measure")]
     pub fn counters(&self) -> &StepCounters {
         &self.counters
     }

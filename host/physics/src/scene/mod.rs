@@ -7,7 +7,10 @@
 //! coordinates (m/s, rad/s).
 
 mod build;
+#[cfg(feature = "measure")]
 pub mod builtin;
+#[cfg(all(test, not(feature = "measure")))]
+mod builtin;
 mod error;
 mod format;
 #[cfg(feature = "measure")]
@@ -15,11 +18,12 @@ pub mod hard;
 mod validate;
 
 pub use error::{Problem, SceneError};
-pub use format::{
+measure_use!(format::{
     ArticulatedDesc, BodyDesc, BodyKindDesc, DampingDesc, DriveDesc, JointDesc, JointLimitsDesc,
-    JointMotorDesc, LinkShapeDesc, MaterialDesc, MotorDesc, PartShapeDesc, SceneFile, ShapeDesc,
+    JointMotorDesc, LinkShapeDesc, MaterialDesc, MotorDesc, PartShapeDesc, ShapeDesc,
     SolverDesc, TrajectoryDesc,
-};
+});
+pub use format::SceneFile;
 pub use validate::limits;
 
 #[allow(unused_imports)]

@@ -30,7 +30,7 @@ impl<T: Real> AInertia<T> {
     }
 
     /// As a full 6×6 nalgebra matrix (twist `(w, v)` → wrench `(m, f)` ordering).
-    pub fn to_matrix6(&self) -> Matrix6<T> {
+    pub fn to_matrix6(self) -> Matrix6<T> {
         let mut m = Matrix6::zeros();
         m.fixed_view_mut::<3, 3>(0, 0)
             .copy_from(&self.a.to_matrix());
@@ -40,17 +40,6 @@ impl<T: Real> AInertia<T> {
         m.fixed_view_mut::<3, 3>(3, 3)
             .copy_from(&self.c.to_matrix());
         m
-    }
-
-    /// From a 6×6 matrix, taking its symmetric part.
-    pub fn from_matrix6(m: &Matrix6<T>) -> Self {
-        let h = T::from_f64(0.5);
-        let a: Mat3<T> = m.fixed_view::<3, 3>(0, 0).into_owned();
-        let c: Mat3<T> = m.fixed_view::<3, 3>(3, 3).into_owned();
-        let b: Mat3<T> = m.fixed_view::<3, 3>(0, 3).into_owned();
-        let bt: Mat3<T> = m.fixed_view::<3, 3>(3, 0).into_owned();
-        let b = (b + bt.transpose()).map(|x| x * h);
-        Self::new(Sym3::from_matrix(&a), b, Sym3::from_matrix(&c))
     }
 }
 

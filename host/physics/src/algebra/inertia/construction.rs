@@ -1,7 +1,7 @@
 //! Constructors of `Inertia`.
 
 use super::Inertia;
-use crate::algebra::{dot, scale, AInertia, Sym3, Vec3};
+use crate::algebra::{dot, scale, Sym3, Vec3};
 use crate::Real;
 
 impl<T: Real> Inertia<T> {
@@ -50,26 +50,10 @@ impl<T: Real> Inertia<T> {
         self.i - back.i
     }
 
-    /// The 6×6 form as an [`AInertia`] (the cast `Inertia → AInertia` of Appendix B).
+    /// The 6×6 form as an [`AInertia`](crate::algebra::AInertia) (the cast `Inertia → AInertia` of Appendix B).
     #[inline]
-    pub fn to_ainertia(&self) -> AInertia<T> {
-        AInertia::from(*self)
-    }
-
-    /// Converts the scalar type.
-    pub fn cast<U: Real>(&self) -> Inertia<U> {
-        let c = |x: T| U::from_f64(x.to_f64());
-        Inertia::new(
-            c(self.m),
-            self.h.map(c),
-            Sym3::new(
-                c(self.i.xx),
-                c(self.i.yy),
-                c(self.i.zz),
-                c(self.i.xy),
-                c(self.i.xz),
-                c(self.i.yz),
-            ),
-        )
+    #[cfg(feature = "measure")]
+    pub fn to_ainertia(&self) -> crate::algebra::AInertia<T> {
+        crate::algebra::AInertia::from(*self)
     }
 }

@@ -41,14 +41,6 @@ impl<T: Real> SE3<T> {
         m.fixed_view_mut::<3, 1>(0, 3).copy_from(&self.p);
         m
     }
-
-    /// Converts the scalar type (e.g. `f64` → `f32`, or into the counting scalar).
-    pub fn cast<U: Real>(&self) -> SE3<U> {
-        SE3::new(
-            self.r.map(|x| U::from_f64(x.to_f64())),
-            self.p.map(|x| U::from_f64(x.to_f64())),
-        )
-    }
 }
 
 impl<T: Real> Default for SE3<T> {

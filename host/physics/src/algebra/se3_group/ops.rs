@@ -17,18 +17,6 @@ impl<T: Real> SE3<T> {
     pub fn transform_point(&self, x: &Vec3<T>) -> Vec3<T> {
         add(&mul_mv(&self.r, x), &self.p)
     }
-
-    /// `R x` for a free vector — 9×, 6+.
-    #[inline]
-    pub fn rotate(&self, x: &Vec3<T>) -> Vec3<T> {
-        mul_mv(&self.r, x)
-    }
-
-    /// `T⁻¹ x = Rᵀ (x − p)` for a point — 9×, 9+.
-    #[inline]
-    pub fn inverse_transform_point(&self, x: &Vec3<T>) -> Vec3<T> {
-        mul_mtv(&self.r, &crate::algebra::sub(x, &self.p))
-    }
 }
 
 impl<T: Real> Mul for SE3<T> {

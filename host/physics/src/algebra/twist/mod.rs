@@ -16,5 +16,5 @@ pub struct se3<T: Real> {
     /// Angular part.
     pub w: Vec3<T>,
     /// Linear part.
-    pub(crate) v: Vec3<T>,
+    pub v: Vec3<T>,
 }

@@ -53,14 +53,6 @@ impl<T: Real> se3<T> {
     pub fn dot(&self, f: &dse3<T>) -> T {
         dot(&self.w, &f.m) + dot(&self.v, &f.f)
     }
-
-    /// Converts the scalar type.
-    pub fn cast<U: Real>(&self) -> se3<U> {
-        se3::new(
-            self.w.map(|x| U::from_f64(x.to_f64())),
-            self.v.map(|x| U::from_f64(x.to_f64())),
-        )
-    }
 }
 
 impl<T: Real> Default for se3<T> {

@@ -14,5 +14,5 @@ pub struct dse3<T: Real> {
     /// Moment part.
     pub m: Vec3<T>,
     /// Force part.
-    pub(crate) f: Vec3<T>,
+    pub f: Vec3<T>,
 }

@@ -36,58 +36,54 @@ impl<T: Real> dse3<T> {
         dot(&self.m, &v.w) + dot(&self.f, &v.v)
     }
 
-    /// Kronecker product `F ⊗ G`, the symmetric 6×6 `½(F Gᵀ + G Fᵀ)` (equal to `F Fᵀ` when
-    /// `G = F`) — 63×, 21+. For the rank-one update of Eq. (6) use [`dse3::kron_self`].
-    pub fn kron(&self, g: &dse3<T>) -> AInertia<T> {
-        let h = T::from_f64(0.5);
-        let (a, b) = (self.to_array(), g.to_array());
-        let e = |i: usize, j: usize| h * (a[i] * b[j] + b[i] * a[j]);
-        AInertia::new(
-            Sym3::new(e(0, 0), e(1, 1), e(2, 2), e(0, 1), e(0, 2), e(1, 2)),
-            Mat3::new(
-                e(0, 3),
-                e(0, 4),
-                e(0, 5),
-                e(1, 3),
-                e(1, 4),
-                e(1, 5),
-                e(2, 3),
-                e(2, 4),
-                e(2, 5),
-            ),
-            Sym3::new(e(3, 3), e(4, 4), e(5, 5), e(3, 4), e(3, 5), e(4, 5)),
-        )
+    measure_pub_fn! {
+        /// Kronecker product `F ⊗ G`, the symmetric 6×6 `½(F Gᵀ + G Fᵀ)` (equal to `F Fᵀ` when
+        /// `G = F`) — 63×, 21+. For the rank-one update of Eq. (6) use [`dse3::kron_self`].
+        fn kron(&self, g: &dse3<T>) -> AInertia<T> {
+            let h = T::from_f64(0.5);
+            let (a, b) = (self.to_array(), g.to_array());
+            let e = |i: usize, j: usize| h * (a[i] * b[j] + b[i] * a[j]);
+            AInertia::new(
+                Sym3::new(e(0, 0), e(1, 1), e(2, 2), e(0, 1), e(0, 2), e(1, 2)),
+                Mat3::new(
+                    e(0, 3),
+                    e(0, 4),
+                    e(0, 5),
+                    e(1, 3),
+                    e(1, 4),
+                    e(1, 5),
+                    e(2, 3),
+                    e(2, 4),
+                    e(2, 5),
+                ),
+                Sym3::new(e(3, 3), e(4, 4), e(5, 5), e(3, 4), e(3, 5), e(4, 5)),
+            )
+        }
     }
 
-    /// `s F ⊗ F = s F Fᵀ`, as `(s F) Fᵀ` on the 21 independent entries — 27×.
-    #[inline(always)]
-    pub fn kron_self(&self, s: T) -> AInertia<T> {
-        let a = self.to_array();
-        let sa = [s * a[0], s * a[1], s * a[2], s * a[3], s * a[4], s * a[5]];
-        let e = |i: usize, j: usize| sa[i] * a[j];
-        AInertia::new(
-            Sym3::new(e(0, 0), e(1, 1), e(2, 2), e(0, 1), e(0, 2), e(1, 2)),
-            Mat3::new(
-                e(0, 3),
-                e(0, 4),
-                e(0, 5),
-                e(1, 3),
-                e(1, 4),
-                e(1, 5),
-                e(2, 3),
-                e(2, 4),
-                e(2, 5),
-            ),
-            Sym3::new(e(3, 3), e(4, 4), e(5, 5), e(3, 4), e(3, 5), e(4, 5)),
-        )
-    }
-
-    /// Converts the scalar type.
-    pub fn cast<U: Real>(&self) -> dse3<U> {
-        dse3::new(
-            self.m.map(|x| U::from_f64(x.to_f64())),
-            self.f.map(|x| U::from_f64(x.to_f64())),
-        )
+    measure_pub_fn! {
+        /// `s F ⊗ F = s F Fᵀ`, as `(s F) Fᵀ` on the 21 independent entries — 27×.
+        #[inline(always)]
+        fn kron_self(&self, s: T) -> AInertia<T> {
+            let a = self.to_array();
+            let sa = [s * a[0], s * a[1], s * a[2], s * a[3], s * a[4], s * a[5]];
+            let e = |i: usize, j: usize| sa[i] * a[j];
+            AInertia::new(
+                Sym3::new(e(0, 0), e(1, 1), e(2, 2), e(0, 1), e(0, 2), e(1, 2)),
+                Mat3::new(
+                    e(0, 3),
+                    e(0, 4),
+                    e(0, 5),
+                    e(1, 3),
+                    e(1, 4),
+                    e(1, 5),
+                    e(2, 3),
+                    e(2, 4),
+                    e(2, 5),
+                ),
+                Sym3::new(e(3, 3), e(4, 4), e(5, 5), e(3, 4), e(3, 5), e(4, 5)),
+            )
+        }
     }
 }
 
@@ -157,7 +153,7 @@ impl<T: Real> Mul<se3<T>> for dse3<T> {
 
 impl<T: Real> Mul<dse3<T>> for dse3<T> {
     type Output = AInertia<T>;
-    /// Kronecker product `F ⊗ G` (see [`dse3::kron`]).
+    /// Kronecker product `F ⊗ G` (`dse3::kron`).
     #[inline]
     fn mul(self, g: dse3<T>) -> AInertia<T> {
         self.kron(&g)

@@ -21,11 +21,6 @@ impl<T: Real> Cylindrical<T> {
             axis: scale(T::one() / n, &axis),
         }
     }
-
-    /// The unit axis.
-    pub fn axis(&self) -> Vec3<T> {
-        self.axis
-    }
 }
 
 impl<T: Real> Joint<T> for Cylindrical<T> {

@@ -20,11 +20,6 @@ impl<T: Real> Prismatic<T> {
             axis: scale(T::one() / n, &axis),
         }
     }
-
-    /// The unit axis.
-    pub fn axis(&self) -> Vec3<T> {
-        self.axis
-    }
 }
 
 impl<T: Real> Joint<T> for Prismatic<T> {

@@ -20,11 +20,6 @@ impl<T: Real> Revolute<T> {
             axis: crate::algebra::scale(T::one() / n, &axis),
         }
     }
-
-    /// The unit axis.
-    pub fn axis(&self) -> Vec3<T> {
-        self.axis
-    }
 }
 
 impl<T: Real> Joint<T> for Revolute<T> {
