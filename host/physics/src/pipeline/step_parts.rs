@@ -2,23 +2,23 @@
 //!
 //! A tree's contacts are found at the step's start, and each keeps its normal, its point on
 //! the link (moved with the link's pose at each substep) and its Jacobian rows for the whole
-//! step. A tree that touches static geometry and whose links move by more than the
-//! speculative distance in one step can reach an edge or a face that none of its contacts saw,
-//! or meet one along another normal (a falling arm pivoting on one step's edge swings its far
-//! end onto the next). Such a step is taken as `n` steps of `dt / n` on `substeps / n`
-//! substeps each: the same substep, so the solver's cost is unchanged, while collision and
-//! preparation run `n` times and each part's contacts are found where the links are then
-//! (what `vphys hard --finer N` measures). A half-space has one normal and no edge, so
-//! contacts with one do not split a step (a foosball man sweeping over the cloth); nor does
-//! a tree whose every coordinate follows a motor or prescribed motion (a servo-driven rod):
-//! it goes where its drives take it, within their force limits, and the contacts it meets
-//! on the way stop it through them, so the step is split for the falling and swinging
-//! trees that nothing holds.
+//! step. A tree in contact whose links move by more than the speculative distance in one step
+//! can reach an edge or a face that none of its contacts saw, or meet one along another normal
+//! (a falling arm pivoting on one step's edge swings its far end onto the next); and a link
+//! that turns far within the step is pushed along rows that no longer describe how its
+//! contact points move, which can give the tree energy (a spinning chain landing on the
+//! ground, or on another chain, whipped its far end off at 10 m/s). Such a step is taken as
+//! `n` steps of `dt / n` on `substeps / n` substeps each: the same substep, so the solver's
+//! cost is unchanged, while collision and preparation run `n` times and each part's contacts
+//! are found, and their rows formed, where the links are then (what `vphys hard --finer N`
+//! measures). A tree whose every coordinate follows a motor or prescribed motion (a
+//! servo-driven rod) is left whole: it goes where its drives take it, within their force
+//! limits, and the contacts it meets on the way stop it through them, so the step is split
+//! for the falling and swinging trees that nothing holds.
 
 use super::world::World;
 use super::StepCounters;
 use crate::dynamics::DynamicsError;
-use crate::geometry::Shape;
 
 /// The most parts a step is split into.
 const MAX_PARTS: usize = 4;
@@ -30,26 +30,23 @@ fn tree_bit(tree: usize) -> u64 {
 
 impl World {
     /// Into how many parts this step is split: 1, unless a tree not driven in every
-    /// coordinate had a contact against static geometry other than a half-space in the last
-    /// step; then the farthest any of its link proxies' points travels over the step
-    /// (`|v| + |ω| · reach`, m, at the step's start) in speculative distances, rounded up,
-    /// within `1 ..= min(MAX_PARTS, substeps)` and dividing `substeps`. Last step's contacts
-    /// are read by index where they still name a manifold, a body and a tree (a body or tree
-    /// removed since leaves them pointing elsewhere; those are passed over).
+    /// coordinate had a contact in the last step; then the farthest any of its link proxies'
+    /// points travels over the step (`|v| + |ω| · reach`, m, at the step's start) in
+    /// speculative distances, rounded up, within `1 ..= min(MAX_PARTS, substeps)` and
+    /// dividing `substeps`. Last step's contacts name their trees by index; a tree removed
+    /// since is passed over (another tree moved into its index is measured instead, which
+    /// at worst splits a step that need not be).
     pub(super) fn step_parts(&self) -> usize {
         let substeps = self.settings.substeps.max(1);
         let spec = self.settings.speculative_distance;
-        let Some(narrow) = self.narrow.as_ref() else {
-            return 1;
-        };
         if self.tree_contacts.contacts.is_empty() || substeps < 2 || spec <= 0.0 {
             return 1;
         }
-        // The trees with such a contact, a bit each (trees past the 63rd share the last bit,
-        // and all their proxies are measured); the trees driven in every coordinate, found
-        // once each (those past the 63rd asked each time: their bit is not theirs alone).
+        // The trees with a contact, a bit each (trees past the 63rd share the last bit, and
+        // all their proxies are measured); the trees driven in every coordinate, found once
+        // each (those past the 63rd asked each time: their bit is not theirs alone).
         let (mut trees, mut driven) = (0u64, 0u64);
-        for (tree, mi) in self.tree_contacts.against_still() {
+        for tree in self.tree_contacts.trees_touching() {
             let bit = tree_bit(tree);
             if (trees | driven) & bit != 0 {
                 continue;
@@ -60,17 +57,7 @@ impl World {
                 }
                 continue;
             }
-            let Some(m) = narrow.manifolds.get(mi) else {
-                continue;
-            };
-            let plane = [m.a, m.b].iter().any(|&i| {
-                let i = i as usize;
-                self.proxies.get(i).is_some_and(Option::is_none)
-                    && matches!(self.bodies.shape.get(i), Some(Shape::HalfSpace { .. }))
-            });
-            if !plane {
-                trees |= bit;
-            }
+            trees |= bit;
         }
         if trees == 0 {
             return 1;

@@ -126,14 +126,14 @@ fn side_of(bodies: &BodySet, proxies: &[Option<Proxy>], i: usize) -> Side {
 }
 
 impl TreeContacts {
-    /// The trees' contacts of the last step that impulses act on against a body that does not
-    /// move (static geometry, or a kinematic or sleeping body): `(tree, manifold index)`.
-    pub(crate) fn against_still(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        self.contacts.iter().filter_map(|c| match (c.a, c.b) {
-            (Side::Link { tree, .. }, Side::Still) | (Side::Still, Side::Link { tree, .. }) => {
-                Some((tree, c.manifold))
-            }
-            _ => None,
+    /// The trees whose links had a contact that impulses act on in the last step, once per
+    /// link side of each contact (a contact between two links names both trees).
+    pub(crate) fn trees_touching(&self) -> impl Iterator<Item = usize> + '_ {
+        self.contacts.iter().flat_map(|c| {
+            [c.a, c.b].into_iter().filter_map(|side| match side {
+                Side::Link { tree, .. } => Some(tree),
+                _ => None,
+            })
         })
     }
 
