@@ -35,6 +35,8 @@ mod multibody_peer;
 mod parry_peer;
 mod peers;
 mod rapier_peer;
+#[cfg(feature = "rapier-peer")]
+mod rapier_scene;
 mod run;
 mod suite;
 mod table3;

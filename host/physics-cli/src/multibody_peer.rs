@@ -3,14 +3,9 @@
 //! deepest penetration into the ground over the run.
 //!
 //! The scene (default `host/physics/scenes/chain-on-boxes.json`: a 10-link chain on a floating
-//! base falling onto twelve boxes) is translated for Rapier as follows:
-//! * each link becomes a dynamic rigid body at its neutral-configuration pose, and each
-//!   revolute joint a multibody revolute joint with the same axis and anchors. The root link
-//!   is free, as our floating base is;
-//! * each link shape becomes a collider at its pose, with the link's mass. Rapier computes the
-//!   inertia from the collider's shape, where ours is the model's stated inertia: a small
-//!   difference in the chain's rotational inertia;
-//! * the boxes and the ground translate as in `peers rapier`: friction 0.5, sleeping off.
+//! base falling onto twelve boxes) is translated for Rapier by `rapier_scene`: each link a
+//! rigid body joined to its parent by a multibody revolute joint, the root free as our
+//! floating base is.
 //!
 //! Rapier runs at its defaults (4 solver iterations, soft contacts at 30 Hz).
 
@@ -56,94 +51,11 @@ fn ours(s: &virtual_physics::scene::SceneFile, steps: u64) -> Result<(f64, f64)>
 
 #[cfg(feature = "rapier-peer")]
 fn rapier(s: &virtual_physics::scene::SceneFile, steps: u64) -> Result<(f64, f64)> {
-    use anyhow::bail;
-    use rapier3d::prelude::*;
-    use virtual_physics::scene::{BodyKindDesc, ShapeDesc};
-
-    let v = |a: [f64; 3]| Vector::new(a[0] as Real, a[1] as Real, a[2] as Real);
-    let mut w = PhysicsWorld {
-        gravity: v(s.gravity),
-        ..PhysicsWorld::default()
-    };
-    w.integration_parameters.dt = s.dt as Real;
-    let collider = |shape: &ShapeDesc| -> Result<ColliderBuilder> {
-        Ok(match *shape {
-            ShapeDesc::Box { half_extents: h } => {
-                ColliderBuilder::cuboid(h[0] as Real, h[1] as Real, h[2] as Real)
-            }
-            ShapeDesc::Sphere { radius } => ColliderBuilder::ball(radius as Real),
-            ShapeDesc::Capsule {
-                radius,
-                half_height,
-            } => ColliderBuilder::capsule_z(half_height as Real, radius as Real),
-            ShapeDesc::HalfSpace { normal } => {
-                ColliderBuilder::halfspace(rapier3d::na::Unit::new_unchecked(v(normal).normalize()))
-            }
-            _ => bail!("the multibody peer supports boxes, spheres, capsules and half-spaces"),
-        })
-    };
-    let mut ground = Vec::new();
-    for b in &s.bodies {
-        let rb = match b.kind {
-            BodyKindDesc::Dynamic => RigidBodyBuilder::dynamic(),
-            BodyKindDesc::Kinematic => RigidBodyBuilder::kinematic_velocity_based(),
-            BodyKindDesc::Fixed => RigidBodyBuilder::fixed(),
-        }
-        .translation(v(b.position))
-        .rotation(v(b.rotation))
-        .can_sleep(false);
-        let mut col = collider(&b.shape)?.friction(0.5);
-        if b.kind == BodyKindDesc::Dynamic {
-            let m = b
-                .mass
-                .unwrap_or_else(|| b.density.unwrap_or(1.0) * b.shape.shape().volume());
-            col = col.mass(m as Real);
-        }
-        let (_, c) = w.insert(rb, col);
-        if matches!(b.shape, ShapeDesc::HalfSpace { .. }) {
-            ground.push(c);
-        }
-    }
-    for a in &s.articulated {
-        let tree = a.model.build::<f64>()?;
-        let q = a.q.clone().unwrap_or_else(|| tree.neutral_configuration());
-        let poses = tree.body_poses(&q);
-        let mut handles = Vec::new();
-        for (k, body) in tree.bodies().iter().enumerate() {
-            let pose = &poses[k];
-            let rot = virtual_physics::algebra::log_so3(&pose.r);
-            let h = w.insert_body(
-                RigidBodyBuilder::dynamic()
-                    .translation(v(pose.p.into()))
-                    .rotation(v(rot.into()))
-                    .can_sleep(false),
-            );
-            let shapes: Vec<_> = a.shapes.iter().filter(|ls| ls.link == body.name).collect();
-            for ls in &shapes {
-                let col = collider(&ls.shape)?
-                    .translation(v(ls.position))
-                    .rotation(v(ls.rotation))
-                    .friction(0.5)
-                    .mass((body.inertia.m / shapes.len() as f64) as Real);
-                w.colliders.insert_with_parent(col, h, &mut w.bodies);
-            }
-            if let Some(p) = body.parent {
-                let d = a.model.bodies[k].joint.clone();
-                if d.kind != "revolute" {
-                    bail!(
-                        "link {}: the multibody peer supports revolute joints below the root",
-                        body.name
-                    );
-                }
-                let axis = d.axis.unwrap_or([0.0, 0.0, 1.0]);
-                let joint = RevoluteJointBuilder::new(v(axis))
-                    .local_anchor1(v(body.placement.p.into()))
-                    .local_anchor2(Vector::ZERO);
-                w.multibody_joints.insert(handles[p], h, joint, true);
-            }
-            handles.push(h);
-        }
-    }
+    let crate::rapier_scene::RapierScene {
+        world: mut w,
+        ground,
+        ..
+    } = crate::rapier_scene::rapier_scene(s, false)?;
     let mut t = Vec::with_capacity(steps as usize);
     let mut deepest: f64 = 0.0;
     for _ in 0..steps {

@@ -1,11 +1,10 @@
 //! `vphys peers rapier`: the same scenes in our engine and in rapier3d 0.36 (f32, one
 //! thread), back to back in one process, sleeping off and on.
 //!
-//! The scenes are translated body by body from the same [`SceneFile`]: unit boxes as
-//! `cuboid(0.5, 0.5, 0.5)` with density = mass / volume (1 kg), the ground as a fixed
-//! half-space with outward normal +z, friction 0.5 on every collider (rapier averages, we take
-//! the geometric mean: both 0.5), gravity (0, 0, −9.81), step 1/60 s. Sleeping off is
-//! `can_sleep(false)` on every rapier body and no `sleeping` effect on ours.
+//! The scenes are translated body by body from the same [`SceneFile`] (`rapier_scene`): the
+//! same shapes, poses, velocities, masses and friction (0.5 without a material; rapier
+//! averages, we take the geometric mean: equal for equal materials), gravity and step.
+//! Sleeping off is `can_sleep(false)` on every rapier body and no `sleeping` effect on ours.
 //!
 //! Rapier runs at its defaults (4 solver iterations, contacts at 30 Hz, 60 Hz against fixed
 //! bodies) for the main rows. A second table runs it, sleeping off, with the scene's own solver
@@ -120,79 +119,22 @@ pub(crate) fn rapier_measure(
     steps: u64,
     settings: RapierSettings,
 ) -> Result<RapierRun> {
-    use anyhow::bail;
-    use rapier3d::prelude::*;
-    use virtual_physics::scene::{BodyKindDesc, ShapeDesc};
-
-    let mut w = PhysicsWorld {
-        gravity: Vector::new(
-            s.gravity[0] as Real,
-            s.gravity[1] as Real,
-            s.gravity[2] as Real,
-        ),
-        ..PhysicsWorld::default()
-    };
-    w.integration_parameters.dt = s.dt as Real;
+    let crate::rapier_scene::RapierScene {
+        world: mut w,
+        dynamic: handles,
+        ..
+    } = crate::rapier_scene::rapier_scene(s, sleeping)?;
     match settings {
         RapierSettings::Defaults => {}
         RapierSettings::Matched { substeps, hertz } => {
             let p = &mut w.integration_parameters;
             p.num_solver_iterations = substeps;
-            p.contact_softness.natural_frequency = hertz as Real;
-            p.static_contact_softness.natural_frequency = 2.0 * hertz as Real;
+            p.contact_softness.natural_frequency = hertz as f32;
+            p.static_contact_softness.natural_frequency = 2.0 * hertz as f32;
         }
         RapierSettings::Iterations(n) => w.integration_parameters.num_solver_iterations = n,
     }
-    let mut handles = Vec::new();
-    for (i, b) in s.bodies.iter().enumerate() {
-        if b.rotation != [0.0; 3] {
-            bail!("bodies[{i}]: the rapier peer supports unrotated bodies only");
-        }
-        let friction = b
-            .material
-            .as_ref()
-            .and_then(|m| s.materials.iter().find(|x| &x.name == m))
-            .map_or(0.5, |m| m.friction) as Real;
-        let p = Vector::new(
-            b.position[0] as Real,
-            b.position[1] as Real,
-            b.position[2] as Real,
-        );
-        let rb = match b.kind {
-            BodyKindDesc::Dynamic => RigidBodyBuilder::dynamic(),
-            BodyKindDesc::Kinematic => RigidBodyBuilder::kinematic_velocity_based(),
-            BodyKindDesc::Fixed => RigidBodyBuilder::fixed(),
-        }
-        .translation(p)
-        .can_sleep(sleeping);
-        let shape = b.shape.shape();
-        let volume = shape.volume();
-        let density = b.mass.map_or(b.density.unwrap_or(1.0), |m| m / volume) as Real;
-        let col = match b.shape {
-            ShapeDesc::Box { half_extents: h } => {
-                ColliderBuilder::cuboid(h[0] as Real, h[1] as Real, h[2] as Real)
-            }
-            ShapeDesc::Sphere { radius } => ColliderBuilder::ball(radius as Real),
-            ShapeDesc::HalfSpace { normal } => {
-                ColliderBuilder::halfspace(rapier3d::na::Unit::new_unchecked(
-                    Vector::new(normal[0] as Real, normal[1] as Real, normal[2] as Real)
-                        .normalize(),
-                ))
-            }
-            _ => bail!("bodies[{i}]: the rapier peer supports boxes, spheres and half-spaces"),
-        }
-        .friction(friction)
-        .density(if b.kind == BodyKindDesc::Dynamic {
-            density
-        } else {
-            1.0
-        });
-        let (h, _) = w.insert(rb, col);
-        if b.kind == BodyKindDesc::Dynamic {
-            handles.push(h);
-        }
-    }
-    let pos = |w: &PhysicsWorld| -> Vec<[f64; 3]> {
+    let pos = |w: &rapier3d::prelude::PhysicsWorld| -> Vec<[f64; 3]> {
         handles
             .iter()
             .map(|h| {

@@ -3,7 +3,8 @@
 //!
 //! The suite holds the two resting stacks (built in) and the scenes in motion of
 //! `host/physics/scenes/suite/` (written by its `generate.py`): rain, heaps in a bin, a heavy
-//! ball wrecking a pyramid, many small pyramids. Each scene runs `repeats` times, ours and
+//! ball wrecking a pyramid, many small pyramids, a pile of bodies thrown spinning into a bin,
+//! and a pile of articulated chains (against Rapier's multibodies). Each scene runs `repeats` times, ours and
 //! rapier interleaved, and each engine keeps its best median, so that a load on the shared
 //! machine that slows one run does not decide the ratio.
 
@@ -14,7 +15,7 @@ use crate::run::{load, stats};
 use virtual_physics::pipeline::World;
 
 /// The suite's scenes: built-in names, and files under `host/physics/scenes/suite/`.
-pub const SUITE: [&str; 9] = [
+pub const SUITE: [&str; 11] = [
     "towers-1120",
     "pyramid-1240",
     "rain-1000",
@@ -24,6 +25,8 @@ pub const SUITE: [&str; 9] = [
     "wreck-210",
     "wreck-120",
     "pyramids-20x10",
+    "tumble-500",
+    "chains-24",
 ];
 
 /// The scene argument `load` takes for a suite name: a built-in stays a name, the others
@@ -175,4 +178,21 @@ pub fn run(steps: Option<u64>, repeats: usize, json: bool) -> Result<()> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_suite_scene_is_built_in_or_committed() {
+        for name in SUITE {
+            let path = scene_path(name);
+            assert!(
+                virtual_physics::scene::builtin::NAMES.contains(&path.as_str())
+                    || std::path::Path::new(&path).is_file(),
+                "{name}: no built-in scene and no file {path}"
+            );
+        }
+    }
 }

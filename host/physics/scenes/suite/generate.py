@@ -8,6 +8,7 @@ unrotated (the rapier peer's translation takes unrotated boxes and spheres), the
 the half-space z >= 0, the step is 1/60 s and the solver takes its defaults.
 """
 import json
+import math
 import os
 import random
 import sys
@@ -116,6 +117,72 @@ def small_pyramids(count, base):
     return out
 
 
+def tumbling(boxes, spheres, half, seed):
+    """Boxes and spheres of mixed sizes thrown into a walled bin, each turned at random and
+    spinning at up to 8 rad/s about a random axis, moving at up to 3 m/s."""
+    rng = random.Random(seed)
+    kinds = ["b"] * boxes + ["s"] * spheres
+    rng.shuffle(kinds)
+    side = int(2 * half / 1.3)
+    # Walls above the highest layer (eleven layers of 1.4 m from 1 m) and its throw.
+    bodies = walls(half, 20.0)
+
+    def rand_vec(scale):
+        return [round(rng.uniform(-scale, scale), 6) for _ in range(3)]
+
+    for i, k in enumerate(kinds):
+        col, layer = i % (side * side), i // (side * side)
+        x = -half + 0.65 + (col % side) * 1.3
+        y = -half + 0.65 + (col // side) * 1.3
+        z = 1.0 + 1.4 * layer
+        if k == "s":
+            r = rng.uniform(0.3, 0.5)
+            b = sphere([x, y, z], r, mass=round(4.19 * r ** 3, 6))
+        else:
+            h = [rng.uniform(0.25, 0.45) for _ in range(3)]
+            b = box([x, y, z], [round(v, 4) for v in h], mass=round(8 * h[0] * h[1] * h[2], 6))
+            b["rotation"] = rand_vec(3.0)
+        b["velocity"] = rand_vec(3.0)
+        w = rand_vec(1.0)
+        n = max(sum(c * c for c in w) ** 0.5, 1e-9)
+        spin = rng.uniform(2.0, 8.0)
+        b["angular_velocity"] = [round(c / n * spin, 6) for c in w]
+        bodies.append(b)
+    return bodies
+
+
+def chains(count, half, seed):
+    """`count` copies of `chain-on-boxes.json`'s ten-link chain (capsule links on hinges about
+    alternating axes, a floating base) dropped in layers into a walled bin of half-width
+    `half`, each turned about the vertical and bent at random, to fall onto the ground and
+    onto each other. A chain's middle lies within 0.3 m of the bin's centre and its ends
+    within 0.5 m of its middle: inside the bin."""
+    rng = random.Random(seed)
+    with open(os.path.join(HERE, "..", "chain-on-boxes.json")) as f:
+        tree = json.load(f)["articulated"][0]
+    trees = []
+    for i in range(count):
+        yaw = rng.uniform(-math.pi, math.pi)
+        # The chain runs 1 m along its base's x axis: start it so that its middle is over a
+        # point of the bin, 0.12 m above the layer below.
+        cx, cy = rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3)
+        z = 0.1 + 0.12 * i
+        base = [cx - 0.5 * math.cos(yaw), cy - 0.5 * math.sin(yaw), z]
+        # Bent only about the vertical hinges (links 2, 4, 6, 8), so that each chain lies in its
+        # own layer until it lands.
+        bends = [round(rng.uniform(-0.4, 0.4), 6) if k % 2 == 1 else 0.0 for k in range(9)]
+        trees.append({"model": tree["model"], "shapes": tree["shapes"],
+                      "q": [0.0, 0.0, round(yaw, 6)] + [round(c, 6) for c in base] + bends})
+    return trees
+
+
+def chains_scene(name, steps, count, half, seed):
+    s = scene(name, steps, walls(half, 4.0))
+    s["effects"] = EFFECTS + ["articulated", "continuous_collision"]
+    s["articulated"] = chains(count, half, seed)
+    return s
+
+
 SCENES = {
     "rain-1000": scene("1000 unit boxes raining onto the ground and each other", 300,
                        rain(1000, 10, 1)),
@@ -131,6 +198,10 @@ SCENES = {
                        wreck(15, 1000.0, 4.0)),
     "pyramids-20x10": scene("20 pyramids of 55 boxes each (base 10)", 300,
                             small_pyramids(20, 10)),
+    "tumble-500": scene("300 boxes and 200 spheres of mixed sizes thrown spinning into a "
+                        "walled bin", 360, tumbling(300, 200, 5.0, 5)),
+    "chains-24": chains_scene("24 ten-link chains falling onto the ground and each other in a "
+                              "walled bin", 360, 24, 1.0, 6),
 }
 
 
