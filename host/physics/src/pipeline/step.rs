@@ -73,8 +73,12 @@ struct SubstepPlan {
 }
 
 impl World {
-    /// One step of `dt`, unchecked: its stages in order.
-    pub(super) fn step_unguarded(&mut self) -> Result<(), DynamicsError> {
+    /// One step of `dt`, unchecked: its stages in order. A `whole` step (not a part of one)
+    /// in which a free tree meets something it did not touch in the last step, farther than
+    /// it can be followed on one set of contact rows (`parts_on_arrival`), stops after
+    /// collision with nothing moved and returns `Some(parts)`: the caller takes the step in
+    /// that many parts. Otherwise `None`.
+    pub(super) fn step_unguarded(&mut self, whole: bool) -> Result<Option<usize>, DynamicsError> {
         self.counters.reset();
         self.counters.parts = 1;
         let h = self.dt / self.settings.substeps.max(1) as f64;
@@ -83,10 +87,18 @@ impl World {
             // Everything sleeps and nothing can wake it: the free bodies' step is empty.
             self.step_articulated(h)?;
             self.time += self.dt;
-            return Ok(());
+            return Ok(None);
         }
         self.begin_step(h)?;
         self.collide(h)?;
+        if whole {
+            let parts = self.parts_on_arrival();
+            if parts > 1 {
+                // Nothing has moved yet: the parts collide again where the links are.
+                self.ball_paths.clear();
+                return Ok(Some(parts));
+            }
+        }
         self.touching_impacts();
         let prepared = self.prepare_contacts()?;
         let joints_on = self.prepare_joints(h);
@@ -100,7 +112,7 @@ impl World {
         self.sync_link_proxies(false);
         self.update_islands();
         self.time += self.dt;
-        Ok(())
+        Ok(None)
     }
 
     /// Before collision: the motors' velocities predicted for continuous collision, the tree

@@ -11,7 +11,10 @@
 //! `n` steps of `dt / n` on `substeps / n` substeps each: the same substep, so the solver's
 //! cost is unchanged, while collision and preparation run `n` times and each part's contacts
 //! are found, and their rows formed, where the links are then (what `vphys hard --finer N`
-//! measures). A tree whose every coordinate follows a motor or prescribed motion (a
+//! measures). The parts are decided from the last step's contacts before a step; a tree
+//! that meets something it did not touch in the last step (a chain's first landing) is
+//! found by the step's own collision, which then stops the step and takes it in parts. A
+//! tree whose every coordinate follows a motor or prescribed motion (a
 //! servo-driven rod) is left whole: it goes where its drives take it, within their force
 //! limits, and the contacts it meets on the way stop it through them, so the step is split
 //! for the falling and swinging trees that nothing holds.
@@ -59,7 +62,60 @@ impl World {
             }
             trees |= bit;
         }
-        if trees == 0 {
+        self.parts_for(trees)
+    }
+
+    /// Into how many parts a whole step whose collision has just run must be split instead:
+    /// 1, unless a tree not driven in every coordinate meets something this step that it
+    /// did not touch in the last (a chain's first landing, which `step_parts` cannot see
+    /// coming); then as `step_parts` counts for those trees.
+    pub(super) fn parts_on_arrival(&self) -> usize {
+        let (Some(narrow), true) = (self.narrow.as_ref(), self.settings.substeps >= 2) else {
+            return 1;
+        };
+        if self.proxies.iter().all(Option::is_none) {
+            return 1;
+        }
+        // Trees already weighed before the step (they touched something in the last one),
+        // trees found driven (asked once each, as in `step_parts`), and the arriving trees.
+        let mut seen: u64 = self
+            .tree_contacts
+            .trees_touching()
+            .fold(0, |t, k| t | tree_bit(k));
+        let mut trees = 0u64;
+        for m in &narrow.manifolds {
+            for i in [m.a as usize, m.b as usize] {
+                let Some(Some(p)) = self.proxies.get(i) else {
+                    continue;
+                };
+                let bit = tree_bit(p.tree);
+                if seen & bit != 0 {
+                    continue;
+                }
+                if self
+                    .articulated
+                    .get(p.tree)
+                    .is_some_and(|a| !a.fully_driven())
+                {
+                    trees |= bit;
+                }
+                if p.tree < 63 {
+                    seen |= bit;
+                }
+            }
+        }
+        self.parts_for(trees)
+    }
+
+    /// The parts for the trees in `trees` (`tree_bit`): their links' farthest travel over the
+    /// step in speculative distances, rounded up, within `1 ..= min(MAX_PARTS, substeps)` and
+    /// dividing `substeps`.
+    fn parts_for(&self, trees: u64) -> usize {
+        let (substeps, spec) = (
+            self.settings.substeps.max(1),
+            self.settings.speculative_distance,
+        );
+        if trees == 0 || spec <= 0.0 {
             return 1;
         }
         let travel = self.links_travel(trees);
@@ -101,7 +157,7 @@ impl World {
         let mut done = StepCounters::default();
         let mut result = Ok(());
         for _ in 0..parts {
-            result = self.step_unguarded();
+            result = self.step_unguarded(false).map(|_| ());
             done.add_part(&self.counters);
             if result.is_err() {
                 break;

@@ -247,7 +247,10 @@ impl World {
     pub fn step(&mut self) -> Result<(), DynamicsError> {
         self.guard_before_step()?;
         let result = match self.step_parts() {
-            1 => self.step_unguarded(),
+            1 => match self.step_unguarded(true) {
+                Ok(Some(parts)) => self.step_in_parts(parts),
+                other => other.map(|_| ()),
+            },
             parts => self.step_in_parts(parts),
         };
         self.guard_after_step(result)
