@@ -69,12 +69,16 @@ pub fn spd_inverse<T: Real>(a: &mut [T], n: usize, inv: &mut [T]) -> Result<(), 
         return spd_inverse3(a, inv);
     }
     cholesky_in_place(a, n)?;
+    // Column j of the inverse solved into row j, then the whole transposed into place.
     for j in 0..n {
-        let mut col = [T::zero(); 6];
+        let col = &mut inv[j * n..(j + 1) * n];
+        col.fill(T::zero());
         col[j] = T::one();
-        cholesky_substitute(a, n, &mut col[..n]);
-        for i in 0..n {
-            inv[i * n + j] = col[i];
+        cholesky_substitute(a, n, col);
+    }
+    for i in 0..n {
+        for j in i + 1..n {
+            inv.swap(i * n + j, j * n + i);
         }
     }
     Ok(())

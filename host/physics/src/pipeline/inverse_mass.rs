@@ -4,8 +4,8 @@
 //! Every row that acts on a tree's generalised velocities (a contact row, a motor, a travel
 //! limit) needs the tree's response `M⁻¹ Jᵀ` to an impulse. For a long chain that is one
 //! articulated-body pass per row, O(n). For a tree of a few coordinates (a foosball rod: one
-//! cylindrical joint, two coordinates) the dense `nv × nv` inverse costs less than one pass
-//! once it is known, so it is formed once per configuration (composite rigid bodies, then a
+//! cylindrical joint, two coordinates; a ten-link chain, fifteen) the dense `nv × nv`
+//! inverse costs less than one pass once it is known, so it is formed once per configuration (composite rigid bodies, then a
 //! Cholesky inverse) and every response is a matrix–vector product. A match holds some 40
 //! contact rows and 16 drive rows on its eight rods in every step; they shared 270
 //! articulated-body passes per step before this and share 32 factorisations now.
@@ -13,9 +13,11 @@
 use crate::dynamics::{mass_matrix, spd_inverse, DynamicsError, Workspace};
 use crate::model::ArticulatedTree;
 
-/// Trees with at most this many velocity coordinates keep a dense inverse: at six (a free
-/// joint) the product is 36 multiply–adds against a pass over the tree's bodies.
-pub(crate) const DENSE_INVERSE_MASS_DOFS: usize = 6;
+/// Trees with at most this many velocity coordinates keep a dense inverse: up to a ten-link
+/// chain on a floating base (15), whose product of 225 multiply–adds costs less than one
+/// articulated-body pass over its ten bodies, and whose inverse (`O(nv³)`, once per
+/// configuration) its contact rows share. Longer chains keep the pass per row.
+pub(crate) const DENSE_INVERSE_MASS_DOFS: usize = 16;
 
 /// `M(q)⁻¹` (row-major `nv × nv`) and the `q` it belongs to.
 #[derive(Clone, Debug, Default)]
@@ -171,6 +173,37 @@ mod tests {
 
         let mut arm = two_link_arm();
         assert_same(&mut arm, &[0.3, -1.1], &mut InverseMassCache::default());
+    }
+
+    /// A ten-link chain on a floating base, hinged about alternating axes: fifteen
+    /// coordinates, the largest kind of tree that keeps a dense inverse.
+    #[test]
+    fn a_ten_link_chain_on_a_floating_base_answers_as_the_articulated_body_pass() {
+        let mut chain = ArticulatedTree::new(Vec3::zeros());
+        let mut parent = chain
+            .add_body("link0", None, SE3::identity(), Free, off_axis_body())
+            .unwrap();
+        let step = SE3::from_translation(Vec3::new(0.1, 0.0, 0.0));
+        for k in 1..10 {
+            let axis = if k % 2 == 1 {
+                Vec3::new(0.0, 1.0, 0.0)
+            } else {
+                Vec3::new(0.0, 0.0, 1.0)
+            };
+            parent = chain
+                .add_body(
+                    format!("link{k}"),
+                    Some(parent),
+                    step,
+                    Revolute::new(axis),
+                    off_axis_body(),
+                )
+                .unwrap();
+        }
+        assert_eq!(chain.nv(), 15);
+        assert!(InverseMassCache::applies(chain.nv()));
+        let q: Vec<f64> = (0..chain.nq()).map(|i| (i as f64 * 0.37).sin()).collect();
+        assert_same(&mut chain, &q, &mut InverseMassCache::default());
     }
 
     #[test]
