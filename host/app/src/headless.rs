@@ -87,12 +87,8 @@ pub fn sound_of(e: &Event) -> Option<Sound> {
 /// match that does not end during a measurement.
 pub(crate) fn endless_match(table: &str, seed: u64) -> Result<(Table, Match)> {
     let table = load_table(table)?;
-    let mut config = MatchConfig::computer_vs_computer(table.clone(), seed);
-    config.rules = RulesConfig {
-        goals_to_win: 99,
-        ..RulesConfig::default()
-    };
-    let m = Match::new(config).context("match")?;
+    let m = space_foosball_front::online::rollback_timing::endless_match(&table, seed)
+        .context("match")?;
     Ok((table, m))
 }
 

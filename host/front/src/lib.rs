@@ -11,6 +11,7 @@
 //! * [`controls`]: keyboard, mouse and gamepad → the emulated board's rods; the key map.
 //! * [`gamepad`]: the gamepad reader (gilrs: evdev on Linux, the Gamepad API on wasm).
 //! * [`calibrate`]: calibration mode (guided motions, the fit, its quality).
+//! * [`online`]: online play with rollback (GGRS), by address or by room name.
 //! * [`script`]: scripted key presses for unattended checks (`--demo-input`, the page's
 //!   `?keys=`).
 
@@ -20,5 +21,6 @@ pub mod flow;
 pub mod frame;
 pub mod gamepad;
 pub mod match_scene;
+pub mod online;
 pub mod script;
 pub mod view;

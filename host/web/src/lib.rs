@@ -12,6 +12,8 @@
 //!   reports queued for the page.
 //! * [`frame_stats`]: frame times in the page (the status line reports them).
 //! * [`keyboard`]: the page's emulated board, moved by keys, the mouse and a gamepad.
+//! * [`online_page`]: an online match in a room of a signalling server, against a
+//!   desktop or another page, with rollback: the lobby, the match, its end.
 //! * [`flow`], [`view`], [`script`], [`controls`], [`calibrate`]: the screens' flow,
 //!   game → view conversion, scripted keys, keyboard / mouse / gamepad controls and
 //!   calibration mode the desktop program has too (`space-foosball-front`).
@@ -25,6 +27,7 @@ pub mod board;
 pub mod calibration_store;
 pub mod frame_stats;
 pub mod keyboard;
+pub mod online_page;
 pub mod session;
 pub mod status;
 pub mod stepper;

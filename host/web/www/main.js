@@ -107,6 +107,8 @@ async function main() {
     decode: (bytes) => JSON.parse(game.decode_in_report(new Uint8Array(bytes))),
     // The reference match as JSON text (its bits stay exact as text).
     referenceMatch: () => game.reference_match(),
+    // Rollbacks of eight frames timed in this page (the desktop's `bench rollback`).
+    benchRollback: (repeats) => JSON.parse(game.bench_rollback(repeats)),
     connect: async () => {
       const [device] = await hid.requestDevice({ filters });
       if (device) await attach(device);

@@ -1,16 +1,26 @@
-//! `space-foosball host` and `space-foosball join ADDRESS`: an online match, headless.
+//! `space-foosball host` and `space-foosball join ADDRESS`, or both with `--room NAME`: an
+//! online match, headless.
 
-use super::session::{play, LocalRods, OnlineOptions};
+use super::session::{play, LocalRods, OnlineOptions, Peer};
 use anyhow::{bail, Context, Result};
 use foosball_sim::motion::script::MotionScript;
 use space_foosball::side::Side;
+use space_foosball_front::online::rollback::MatchTerms;
+use space_foosball_front::online::room::DEFAULT_SIGNAL;
 use std::net::{SocketAddr, ToSocketAddrs};
 use std::path::PathBuf;
 
 /// What both `host` and `join` take.
 #[derive(clap::Args, Debug)]
 pub struct Common {
-    /// Local UDP port.
+    /// Meet the other side in this room of the signalling server (`--signal`) and play
+    /// over WebRTC (a page in a browser joins the same room), instead of by address.
+    #[arg(long, value_name = "NAME")]
+    pub room: Option<String>,
+    /// The signalling server of `--room` (`matchbox_server`).
+    #[arg(long, value_name = "URL", default_value = DEFAULT_SIGNAL)]
+    pub signal: String,
+    /// Local UDP port (by address).
     #[arg(long, default_value_t = 7000)]
     pub port: u16,
     /// Table: `standard`, `paper` or a TOML file (both sides the same).
@@ -44,9 +54,9 @@ pub struct Common {
 /// Arguments of `space-foosball host`.
 #[derive(clap::Args, Debug)]
 pub struct HostArgs {
-    /// The joining side's address (`HOST:PORT`).
-    #[arg(long, value_name = "ADDRESS")]
-    pub peer: String,
+    /// The joining side's address (`HOST:PORT`); not with `--room`.
+    #[arg(long, value_name = "ADDRESS", required_unless_present = "room")]
+    pub peer: Option<String>,
     #[command(flatten)]
     pub common: Common,
 }
@@ -54,8 +64,9 @@ pub struct HostArgs {
 /// Arguments of `space-foosball join`.
 #[derive(clap::Args, Debug)]
 pub struct JoinArgs {
-    /// The hosting side's address (`HOST:PORT`).
-    pub address: String,
+    /// The hosting side's address (`HOST:PORT`); not with `--room`.
+    #[arg(required_unless_present = "room")]
+    pub address: Option<String>,
     #[command(flatten)]
     pub common: Common,
 }
@@ -67,7 +78,7 @@ fn address(text: &str) -> Result<SocketAddr> {
         .with_context(|| format!("{text:?} names no address"))
 }
 
-fn run(side: Side, remote: &str, c: &Common) -> Result<()> {
+fn run(side: Side, remote: Option<&str>, c: &Common) -> Result<()> {
     if !(1..=99).contains(&c.goals) {
         bail!("--goals must be 1–99, got {}", c.goals);
     }
@@ -80,15 +91,26 @@ fn run(side: Side, remote: &str, c: &Common) -> Result<()> {
         )),
         None => LocalRods::Idle,
     };
+    let peer = match (&c.room, remote) {
+        (Some(_), Some(remote)) => bail!("give an address ({remote}) or --room, not both"),
+        (Some(name), None) => Peer::Room {
+            signal: c.signal.clone(),
+            name: name.clone(),
+        },
+        (None, Some(remote)) => Peer::Address(address(remote)?),
+        (None, None) => bail!("give the other side's address, or --room NAME"),
+    };
     let outcome = play(OnlineOptions {
         side,
         port: c.port,
-        remote: address(remote)?,
-        table: crate::headless::load_table(&c.table)?,
-        seed: c.seed,
-        goals: c.goals,
+        peer,
+        terms: MatchTerms {
+            table: crate::headless::load_table(&c.table)?,
+            seed: c.seed,
+            goals: c.goals,
+            max_frames: c.max_frames,
+        },
         rods,
-        max_frames: c.max_frames,
         input_delay: c.input_delay,
         record: c.record.clone(),
         history: c.history.clone(),
@@ -105,10 +127,10 @@ fn run(side: Side, remote: &str, c: &Common) -> Result<()> {
 
 /// Hosts an online match: this side plays Home.
 pub fn host(args: &HostArgs) -> Result<()> {
-    run(Side::Home, &args.peer, &args.common)
+    run(Side::Home, args.peer.as_deref(), &args.common)
 }
 
 /// Joins an online match: this side plays Away.
 pub fn join(args: &JoinArgs) -> Result<()> {
-    run(Side::Away, &args.address, &args.common)
+    run(Side::Away, args.address.as_deref(), &args.common)
 }

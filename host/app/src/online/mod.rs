@@ -1,12 +1,10 @@
-//! Online play: two cabinets, one match, with rollback (`ggrs`, GGPO-style) over UDP.
+//! Online play on the desktop: the shared session (`space_foosball_front::online`) over UDP
+//! to an address, or over WebRTC to the other side of a room on a signalling server.
 //!
-//! * [`input`] — what each side sends per 60 Hz frame: its rods' poses, quantised so both
-//!   sides step on identical inputs.
-//! * [`session`] — the frame loop: GGRS asks to save the match (`Match::save`), load it
-//!   (`Match::restore`) or advance a frame (16 or 17 steps at 1 kHz with both sides'
-//!   inputs); desyncs are detected from the state's checksum.
-//! * [`cli`] — `space-foosball host` and `space-foosball join ADDRESS` (headless).
+//! * [`session`] — the desktop's loop around the shared session, the outcome, the
+//!   recording and the history.
+//! * [`cli`] — `space-foosball host` and `space-foosball join ADDRESS`, or `--room NAME`
+//!   (headless).
 
 pub mod cli;
-pub mod input;
 pub mod session;

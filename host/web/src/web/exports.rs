@@ -151,3 +151,26 @@ pub fn reference_match() -> String {
         Err(e) => serde_json::json!({ "error": e.to_string() }).to_string(),
     }
 }
+
+/// Times `repeats` (1–100) rollbacks of eight frames of the full table in this page
+/// ([`space_foosball_front::online::rollback_timing`], the desktop's `bench rollback`),
+/// as JSON.
+#[wasm_bindgen]
+pub fn bench_rollback(repeats: u32) -> String {
+    use space_foosball_front::online::rollback_timing::{endless_match, time_rollbacks};
+    let table = space_foosball::Table::standard();
+    let performance = web_sys::window().and_then(|w| w.performance());
+    let Some(performance) = performance else {
+        return serde_json::json!({ "error": "the page has no performance clock" }).to_string();
+    };
+    let now_s = || performance.now() * 1e-3;
+    let figures = endless_match(&table, 1)
+        .map_err(|e| e.to_string())
+        .and_then(|mut m| {
+            time_rollbacks(&table, &mut m, repeats.clamp(1, 100), &now_s).map_err(|e| e.to_string())
+        });
+    match figures {
+        Ok(f) => serde_json::to_string(&f).unwrap_or_default(),
+        Err(e) => serde_json::json!({ "error": e }).to_string(),
+    }
+}

@@ -9,6 +9,13 @@
 //! 1 ms steps since the page started, so that a key is held for the match time the
 //! script says however slowly a software renderer draws).
 //!
+//! Online play ([`crate::online_page`]): `room=NAME` meets the other side (a desktop's
+//! `space-foosball host --room NAME`, or another page) in that room of the signalling
+//! server `signal=ws://…` (default `ws://127.0.0.1:3536`), playing `side=away` (default)
+//! or `home`, with `goals=N` (default 5), `delay=N` frames of input delay (0–8, default
+//! 2) and `frames=N` to stop after N frames; both sides must give the same seed, goals
+//! and frames.
+//!
 //! Keys beside the controls': C at the attract screen starts calibration mode (T / G
 //! turn the rod one turn forward / back, Esc leaves and keeps the fits in
 //! `localStorage`, [`local_storage`]).
@@ -19,12 +26,17 @@ mod local_storage;
 use crate::controls::map_key;
 use crate::frame_stats::FrameStats;
 use crate::gamepad::Gamepads;
+use crate::keyboard::KeyboardBoard;
+use crate::online_page::OnlinePage;
 use crate::script::Script;
 use crate::session::WebSession;
 use exports::{with_shared, Shared};
 use foosball_audio::AudioOutput;
 use foosball_render::{PresentChoice, WindowRenderer};
+use space_foosball::side::Side;
 use space_foosball::table::Table;
+use space_foosball_front::online::rollback::MatchTerms;
+use space_foosball_front::online::room::{room_url, Room, DEFAULT_SIGNAL};
 use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::Arc;
@@ -71,13 +83,68 @@ pub fn start() {
     }
 }
 
-fn run() -> anyhow::Result<()> {
-    let seed = match url_param("seed") {
-        Some(s) => s
-            .parse::<u64>()
-            .map_err(|_| anyhow::anyhow!("seed={s:?} is not a whole number"))?,
-        None => 1,
+/// A whole-number URL parameter in `range`, or `default` where the page has none.
+fn number_param(
+    name: &str,
+    default: u64,
+    range: std::ops::RangeInclusive<u64>,
+) -> anyhow::Result<u64> {
+    let Some(text) = url_param(name) else {
+        return Ok(default);
     };
+    match text.parse::<u64>() {
+        Ok(n) if range.contains(&n) => Ok(n),
+        _ => anyhow::bail!(
+            "{name}={text:?} is not a whole number in {}–{}",
+            range.start(),
+            range.end()
+        ),
+    }
+}
+
+/// The online match the URL asks for (`room=…`), its room opened and its traffic
+/// running on the page's event loop; none without `room`.
+fn online_from_url(seed: u64) -> anyhow::Result<Option<OnlinePage>> {
+    let Some(name) = url_param("room") else {
+        return Ok(None);
+    };
+    let signal = url_param("signal").unwrap_or_else(|| DEFAULT_SIGNAL.to_string());
+    let side = match url_param("side").as_deref() {
+        None | Some("away") => Side::Away,
+        Some("home") => Side::Home,
+        Some(other) => anyhow::bail!("side={other:?}: give home or away"),
+    };
+    let goals = number_param("goals", 5, 1..=99)?;
+    let max_frames = match url_param("frames") {
+        Some(_) => Some(number_param("frames", 0, 1..=u64::from(u32::MAX))?),
+        None => None,
+    };
+    let delay = number_param("delay", 2, 0..=8)?;
+    let url = room_url(&signal, &name)?;
+    let (room, carried) = Room::open(&url);
+    wasm_bindgen_futures::spawn_local(async move {
+        if let Err(e) = carried.await {
+            show_message(&format!("space-foosball: the signalling server: {e}"));
+        }
+    });
+    let terms = MatchTerms {
+        table: Table::standard(),
+        seed,
+        goals: goals as u32,
+        max_frames,
+    };
+    Ok(Some(OnlinePage::new(
+        room,
+        &name,
+        side,
+        terms,
+        delay as usize,
+    )?))
+}
+
+fn run() -> anyhow::Result<()> {
+    let seed = number_param("seed", 1, 0..=u64::MAX)?;
+    let online = online_from_url(seed)?;
     let script: Script = match url_param("script") {
         Some(s) => s.parse().map_err(|e| anyhow::anyhow!("script: {e}"))?,
         None => Script::default(),
@@ -97,6 +164,7 @@ fn run() -> anyhow::Result<()> {
     event_loop.set_control_flow(ControlFlow::Wait);
     event_loop.spawn_app(App {
         session,
+        online,
         script,
         pads,
         audio,
@@ -114,6 +182,8 @@ fn run() -> anyhow::Result<()> {
 
 struct App {
     session: WebSession,
+    /// The online match, where the URL asks for one (it then replaces the local screens).
+    online: Option<OnlinePage>,
     script: Script,
     pads: Gamepads,
     audio: AudioOutput,
@@ -148,7 +218,22 @@ impl App {
         }
     }
 
+    /// The emulated rods the keys, mouse and gamepad move: the online match's, or the
+    /// local session's while no device drives it.
+    fn emulated(&mut self) -> Option<&mut KeyboardBoard> {
+        match &mut self.online {
+            Some(online) => Some(online.keyboard()),
+            None => self.session.keyboard(),
+        }
+    }
+
     fn key(&mut self, code: KeyCode, pressed: bool) {
+        if let Some(online) = &mut self.online {
+            if let Some(k) = map_key(code) {
+                online.keyboard().key(k, pressed);
+            }
+            return;
+        }
         if pressed && code == KeyCode::Escape {
             if let Err(e) = self.session.escape() {
                 return self.fail(format!("space-foosball: {e:#}"));
@@ -214,11 +299,89 @@ impl App {
         }
     }
 
+    /// One animation frame of the online match.
+    fn redraw_online(&mut self, now: f64) {
+        for (code, pressed) in self.script.due(now - self.started) {
+            if let Some(code) = code {
+                self.key(code, pressed);
+            }
+        }
+        let pad = self.pads.state();
+        let Some(online) = self.online.as_mut() else {
+            return;
+        };
+        online.keyboard().gamepad(pad);
+        let (snapshot, screen, hud) = online.frame(now);
+        let online_status = online.status();
+        let Some(renderer) = self.renderer_ready() else {
+            with_shared(|s| s.status = serde_json::json!({ "online": online_status }).to_string());
+            return;
+        };
+        let adapter = renderer.adapter().name.clone();
+        let backend = renderer.adapter().backend.clone();
+        if let Err(e) = renderer.draw(&snapshot, screen, &hud, false) {
+            return self.fail(format!("space-foosball: drawing the frame: {e}"));
+        }
+        self.frames += 1;
+        self.frame_stats.frame(now * 1e3, now_s() * 1e3);
+        let page = crate::status::PageFigures {
+            frames: self.frames,
+            seconds: now - self.started,
+            adapter: &adapter,
+            backend: &backend,
+            frame_stats: &self.frame_stats,
+            audio: &self.audio,
+        };
+        let mut status = crate::status::status(&mut self.session, None, page);
+        status["online"] = online_status;
+        with_shared(|s| s.status = status.to_string());
+        if let Some(w) = &self.window {
+            w.request_redraw();
+        }
+    }
+
+    /// The renderer once it has opened (a failure to open ends the game); `None` while
+    /// it is still opening, with the next frame asked for.
+    fn renderer_ready(&mut self) -> Option<&mut WindowRenderer> {
+        if self.renderer.is_none() {
+            let opened = self.opening.borrow_mut().take();
+            match opened {
+                Some(Ok(r)) => {
+                    web_sys::console::log_1(
+                        &format!(
+                            "space-foosball: drawing on {} ({}), board: {}",
+                            r.adapter().name,
+                            r.adapter().backend,
+                            self.session.board_name()
+                        )
+                        .into(),
+                    );
+                    self.renderer = Some(r);
+                }
+                Some(Err(e)) => {
+                    self.fail(e);
+                    return None;
+                }
+                None => {}
+            }
+        }
+        if self.renderer.is_none() {
+            // Still opening: the game runs on; the next frame looks again.
+            if let Some(w) = &self.window {
+                w.request_redraw();
+            }
+        }
+        self.renderer.as_mut()
+    }
+
     fn redraw(&mut self) {
         if self.failed {
             return;
         }
         let now = now_s();
+        if self.online.is_some() {
+            return self.redraw_online(now);
+        }
         // Scripted keys on the match's clock, before this frame's steps run.
         for (code, pressed) in self.script.due(self.session.clock_s()) {
             if let Some(code) = code {
@@ -256,38 +419,15 @@ impl App {
         while let Some(r) = self.session.take_out_report() {
             with_shared(|s| s.push_out(r.to_vec()));
         }
-        if self.renderer.is_none() {
-            let opened = self.opening.borrow_mut().take();
-            match opened {
-                Some(Ok(r)) => {
-                    web_sys::console::log_1(
-                        &format!(
-                            "space-foosball: drawing on {} ({}), board: {}",
-                            r.adapter().name,
-                            r.adapter().backend,
-                            self.session.board_name()
-                        )
-                        .into(),
-                    );
-                    self.renderer = Some(r);
-                }
-                Some(Err(e)) => return self.fail(e),
-                None => {}
-            }
-        }
-        let Some(renderer) = self.renderer.as_mut() else {
-            // Still opening: the game runs on; the next frame looks again.
-            if let Some(w) = &self.window {
-                w.request_redraw();
-            }
+        let Some(renderer) = self.renderer_ready() else {
             return;
         };
+        let adapter = renderer.adapter().name.clone();
+        let backend = renderer.adapter().backend.clone();
         if let Err(e) = renderer.draw(&out.snapshot, out.screen, &out.hud, false) {
             return self.fail(format!("space-foosball: drawing the frame: {e}"));
         }
         self.frames += 1;
-        let adapter = renderer.adapter().name.clone();
-        let backend = renderer.adapter().backend.clone();
         self.frame_stats.frame(now * 1e3, now_s() * 1e3);
         let page = crate::status::PageFigures {
             frames: self.frames,
@@ -362,7 +502,7 @@ impl ApplicationHandler for App {
                     MouseScrollDelta::LineDelta(_, y) => f64::from(y),
                     MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
                 };
-                if let Some(kb) = self.session.keyboard() {
+                if let Some(kb) = self.emulated() {
                     kb.wheel(lines);
                 }
             }
@@ -376,7 +516,7 @@ impl ApplicationHandler for App {
             WindowEvent::Focused(false) => {
                 self.grab_mouse(false);
                 // Keys released while the page had no focus never arrive: let go of all.
-                if let Some(kb) = self.session.keyboard() {
+                if let Some(kb) = self.emulated() {
                     kb.release_all();
                 }
             }
@@ -387,7 +527,7 @@ impl ApplicationHandler for App {
 
     fn device_event(&mut self, _el: &ActiveEventLoop, _id: DeviceId, event: DeviceEvent) {
         if let DeviceEvent::MouseMotion { delta: (dx, dy) } = event {
-            if let Some(kb) = self.session.keyboard() {
+            if let Some(kb) = self.emulated() {
                 kb.mouse_motion(dx, dy);
             }
         }

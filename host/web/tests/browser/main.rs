@@ -18,6 +18,7 @@
 //! `scripts/test-all` runs it with `--ignored`.
 
 mod cdp;
+mod online;
 mod picture;
 mod server;
 
