@@ -450,3 +450,80 @@ fn the_attract_screen_shows_the_match_history() {
         "the row's text starts at x = {left}, the top scorers' line at {expected}"
     );
 }
+
+/// A free UDP port on 127.0.0.1.
+fn free_udp_port() -> u16 {
+    std::net::UdpSocket::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port()
+}
+
+/// `join --window` on the emulated board against a headless `host` spinning a rod: the
+/// window's side plays to the end both sides confirm (it closes by itself once over, as
+/// an unattended window does), on the same state as the headless side, with no desync.
+#[test]
+fn an_online_match_plays_in_the_window_against_a_headless_side() {
+    if !display_or_skip() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    // Home's rods held for 1 s, then spun (the headless side's script).
+    let script = dir.path().join("spin.json");
+    std::fs::write(
+        &script,
+        r#"{"rods":[{"rod":1,"segments":[{"hold":{"duration_s":1.0}},
+            {"velocity":{"duration_s":600,"angle_rad_per_s":-12.0}}]}]}"#,
+    )
+    .unwrap();
+    let (port_h, port_j) = (free_udp_port(), free_udp_port());
+    let frames = "240";
+    let host = Command::new(BIN)
+        .args(["host", "--peer", &format!("127.0.0.1:{port_j}")])
+        .args(["--port", &port_h.to_string(), "--seed", "4"])
+        .args(["--max-frames", frames, "--script"])
+        .arg(&script)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let joined = Command::new(BIN)
+        .args(["join", &format!("127.0.0.1:{port_h}")])
+        .args(["--port", &port_j.to_string(), "--seed", "4"])
+        .args(["--max-frames", frames, "--window", "--board", "emulated"])
+        .args(["--exit-after-s", "90"])
+        .env("SPACE_FOOSBALL_AUDIO", "off")
+        .env("XDG_RUNTIME_DIR", dir.path())
+        .env("XDG_CONFIG_HOME", dir.path())
+        .output()
+        .unwrap();
+    let host = host.wait_with_output().unwrap();
+    let (jout, hout) = (
+        String::from_utf8_lossy(&joined.stdout),
+        String::from_utf8_lossy(&host.stdout),
+    );
+    assert!(
+        joined.status.success(),
+        "the window's side: {}{jout}",
+        String::from_utf8_lossy(&joined.stderr)
+    );
+    assert!(
+        host.status.success(),
+        "the headless side: {}{hout}",
+        String::from_utf8_lossy(&host.stderr)
+    );
+    let window: serde_json::Value = serde_json::from_str(jout.lines().last().unwrap()).unwrap();
+    let headless: serde_json::Value = serde_json::from_str(hout.lines().last().unwrap()).unwrap();
+    eprintln!("window {window}\nheadless {headless}");
+    // The window's side reached the end both sides confirmed, on the same state.
+    assert_eq!(window["stage"], "over", "{window}");
+    assert_eq!(window["side"], "away");
+    for key in ["frames", "score", "state_hash"] {
+        assert_eq!(window[key], headless[key], "{key}");
+    }
+    assert_eq!(
+        (window["desyncs"].as_u64(), headless["desyncs"].as_u64()),
+        (Some(0), Some(0))
+    );
+}

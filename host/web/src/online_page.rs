@@ -1,54 +1,28 @@
-//! The page's online match, without the page: a room on a signalling server, the match
-//! with rollback (the desktop's own session, `space_foosball_front::online`), the page's
-//! keyboard, mouse and gamepad as this side's rods, and what each frame shows: the lobby
-//! (room, the other side, ping, input delay), the match, its end, or why it stopped.
+//! The page's online match, without the page: the front end's online screen
+//! (`space_foosball_front::online::screen`: a room on a signalling server, the match with
+//! rollback, the lobby, the end or why it stopped) with the page's keyboard, mouse and
+//! gamepad as this side's rods.
 //!
-//! The browser glue opens the [`Room`] and runs its traffic on the page's event loop;
+//! The browser glue opens the room and runs its traffic on the page's event loop;
 //! [`OnlinePage::frame`] is called once per animation frame with the page's clock.
 
 use crate::keyboard::KeyboardBoard;
 use foosball_render::{FrameSnapshot, Hud, Screen};
-use serde_json::{json, Value};
 use space_foosball::side::Side;
 use space_foosball::table::Table;
-use space_foosball_front::match_scene::MatchScene;
+use space_foosball_front::controls::Key;
 use space_foosball_front::online::input::SideInput;
-use space_foosball_front::online::rollback::{steps_of_frame, MatchTerms, OnlineMatch};
+use space_foosball_front::online::rollback::{steps_of_frame, MatchTerms};
 use space_foosball_front::online::room::{PeerId, Room};
-use space_foosball_front::online::session::{
-    Notice, OnlineError, OnlineSession, Stand, CONNECT_TIMEOUT_S,
-};
-
-/// Where the online match stands.
-enum Stage {
-    /// Waiting in the room for the other side.
-    Meeting(Room),
-    /// Playing (or lingering after the end, until the other side has it too).
-    Playing {
-        /// The room, kept open for the match.
-        _room: Room,
-        session: Box<OnlineSession<PeerId>>,
-    },
-    /// Stopped before the end: why.
-    Stopped(String),
-}
+use space_foosball_front::online::screen::{in_room, OnlineScreen, OnlineStatus, OnlineView};
+use space_foosball_front::online::session::OnlineError;
 
 /// The page's online match. See the [module](self).
 pub struct OnlinePage {
+    screen: OnlineScreen<PeerId>,
     table: Table,
     side: Side,
-    room_name: String,
-    input_delay: usize,
-    terms: MatchTerms,
     keyboard: KeyboardBoard,
-    scene: MatchScene,
-    stage: Stage,
-    /// The match before the other side came (drawn in the lobby).
-    waiting: OnlineMatch,
-    started_s: Option<f64>,
-    peer: Option<String>,
-    over: bool,
-    desync_frames: Vec<i32>,
     /// Frames the emulated rods have been moved through.
     moved_to: u64,
 }
@@ -61,28 +35,27 @@ impl OnlinePage {
         side: Side,
         terms: MatchTerms,
         input_delay: usize,
-    ) -> anyhow::Result<Self> {
-        let waiting = OnlineMatch::new(&terms)?;
+    ) -> Result<Self, OnlineError> {
         let mut keyboard = KeyboardBoard::new(&terms.table);
-        // The keyboard plays this side (it starts on Home's goalkeeper).
+        // The keyboard starts on Home's goalkeeper: Away's player switches team once.
         if side == Side::Away {
-            keyboard.key(space_foosball_front::controls::Key::SwitchTeam, true);
-            keyboard.key(space_foosball_front::controls::Key::SwitchTeam, false);
+            keyboard.key(Key::SwitchTeam, true);
+            keyboard.key(Key::SwitchTeam, false);
         }
-        Ok(Self {
-            table: terms.table.clone(),
+        let table = terms.table.clone();
+        let place = format!("room {room_name}");
+        let screen = OnlineScreen::new(
+            in_room(room, side, terms.clone(), input_delay),
+            &place,
             side,
-            room_name: room_name.to_string(),
+            &terms,
             input_delay,
-            scene: MatchScene::new(&terms.table),
-            terms,
+        )?;
+        Ok(Self {
+            screen,
+            table,
+            side,
             keyboard,
-            stage: Stage::Meeting(room),
-            waiting,
-            started_s: None,
-            peer: None,
-            over: false,
-            desync_frames: Vec::new(),
             moved_to: 0,
         })
     }
@@ -95,55 +68,15 @@ impl OnlinePage {
     /// Advances the lobby or the match to `now_s` (the page's clock, s) and returns what
     /// the frame shows.
     pub fn frame(&mut self, now_s: f64) -> (FrameSnapshot, Screen, Hud) {
-        let started = *self.started_s.get_or_insert(now_s);
-        let stage = std::mem::replace(&mut self.stage, Stage::Stopped(String::new()));
-        self.stage = match stage {
-            Stage::Meeting(mut room) => match room.peer() {
-                Some(peer) => self.start(room, peer, now_s),
-                None if now_s - started > CONNECT_TIMEOUT_S => Stage::Stopped(format!(
-                    "NOBODY CAME TO ROOM {} WITHIN {CONNECT_TIMEOUT_S} S",
-                    self.room_name
-                )),
-                None => Stage::Meeting(room),
-            },
-            Stage::Playing { _room, mut session } => match self.play(&mut session, now_s) {
-                Ok(()) => Stage::Playing { _room, session },
-                Err(e) => Stage::Stopped(e.to_string().to_uppercase()),
-            },
-            stopped => stopped,
-        };
-        self.show()
-    }
-
-    fn start(&mut self, mut room: Room, peer: PeerId, now_s: f64) -> Stage {
-        let Some(channel) = room.take_channel() else {
-            return Stage::Stopped("THE ROOM'S CHANNEL IS GONE".into());
-        };
-        match OnlineSession::start(
-            channel,
-            peer,
+        let (table, side, keyboard, moved) = (
+            &self.table,
             self.side,
-            &self.terms,
-            self.input_delay,
-            now_s,
-        ) {
-            Ok(session) => {
-                self.peer = Some(peer.to_string());
-                Stage::Playing {
-                    _room: room,
-                    session: Box::new(session),
-                }
-            }
-            Err(e) => Stage::Stopped(e.to_string().to_uppercase()),
-        }
-    }
-
-    fn play(&mut self, session: &mut OnlineSession<PeerId>, now_s: f64) -> Result<(), OnlineError> {
-        let (table, side, keyboard) = (&self.table, self.side, &mut self.keyboard);
+            &mut self.keyboard,
+            &mut self.moved_to,
+        );
         // This side's rods for frame `f`: the emulated rods moved through the frame's
         // milliseconds (once per frame: a frame held back for the other side is asked for
         // again), then read.
-        let moved = &mut self.moved_to;
         let mut local = |f: u64| {
             if *moved <= f {
                 for _ in 0..steps_of_frame(f) {
@@ -156,89 +89,11 @@ impl OnlinePage {
                 .collect();
             SideInput::from_poses(table, side, &poses)
         };
-        let mut notices = Vec::new();
-        let stand = session.poll(now_s, &mut local, &mut notices)?;
-        for n in notices {
-            if let Notice::Desync { frame } = n {
-                self.desync_frames.push(frame);
-            }
-        }
-        self.over = matches!(stand, Stand::Over | Stand::Closed);
-        Ok(())
-    }
-
-    fn session(&self) -> Option<&OnlineSession<PeerId>> {
-        match &self.stage {
-            Stage::Playing { session, .. } => Some(session),
-            _ => None,
-        }
-    }
-
-    fn show(&self) -> (FrameSnapshot, Screen, Hud) {
-        let game = self.session().map_or(&self.waiting, |s| s.game());
-        let snapshot = self.scene.snapshot(&game.game().snapshot());
-        let team = format!("{:?}", self.side).to_uppercase();
-        let mut hud = Hud::default();
-        hud.lines
-            .push(format!("ONLINE: ROOM {}, YOU PLAY {team}", self.room_name));
-        let screen = match (&self.stage, self.session()) {
-            (Stage::Meeting(_), _) => {
-                hud.heading = format!("WAITING IN ROOM {}", self.room_name);
-                Screen::Attract
-            }
-            (Stage::Stopped(why), _) => {
-                hud.heading = why.clone();
-                Screen::Attract
-            }
-            (_, Some(s)) => {
-                let ping = s
-                    .ping_ms()
-                    .map_or_else(|| "-".to_string(), |p| p.to_string());
-                hud.lines.push(format!(
-                    "PEER {}  PING {ping} MS  INPUT DELAY {} FRAMES",
-                    self.peer.as_deref().unwrap_or("-"),
-                    self.input_delay
-                ));
-                if !self.desync_frames.is_empty() {
-                    hud.heading = "THE TWO SIDES' MATCHES DIFFER".into();
-                }
-                if self.over {
-                    Screen::FinalResult
-                } else {
-                    Screen::Match
-                }
-            }
-            (_, None) => Screen::Attract,
-        };
-        (snapshot, screen, hud)
+        self.screen.frame(now_s, &mut local)
     }
 
     /// The online match's part of the page's status line.
-    pub fn status(&self) -> Value {
-        let (stage, error) = match &self.stage {
-            Stage::Meeting(_) => ("meeting", None),
-            Stage::Playing { .. } if self.over => ("over", None),
-            Stage::Playing { .. } => ("playing", None),
-            Stage::Stopped(why) => ("stopped", Some(why.as_str())),
-        };
-        let game = self.session().map_or(&self.waiting, |s| s.game());
-        let m = game.game();
-        let (rollbacks, resimulated) = game.rollbacks();
-        json!({
-            "stage": stage,
-            "error": error,
-            "room": self.room_name,
-            "side": self.side,
-            "peer": self.peer,
-            "ping_ms": self.session().and_then(OnlineSession::ping_ms).map(|p| p as u64),
-            "input_delay_frames": self.input_delay,
-            "frames": game.end().min(game.state_frame()),
-            "match_over": m.is_over(),
-            "score": m.score(),
-            "state_hash": format!("{:032x}", m.state_hash()),
-            "desyncs": self.desync_frames.len(),
-            "rollbacks": rollbacks,
-            "resimulated_frames": resimulated,
-        })
+    pub fn status(&self) -> OnlineStatus {
+        self.screen.status()
     }
 }

@@ -1,7 +1,8 @@
 //! `space-foosball host` and `space-foosball join ADDRESS`, or both with `--room NAME`: an
 //! online match, headless.
 
-use super::session::{play, LocalRods, OnlineOptions, Peer};
+use super::session::{play, play_in_window, LocalRods, OnlineOptions, Peer};
+use crate::window::board::BoardChoice;
 use anyhow::{bail, Context, Result};
 use foosball_sim::motion::script::MotionScript;
 use space_foosball::side::Side;
@@ -20,6 +21,17 @@ pub struct Common {
     /// The signalling server of `--room` (`matchbox_server`).
     #[arg(long, value_name = "URL", default_value = DEFAULT_SIGNAL)]
     pub signal: String,
+    /// Play in a window: the lobby, the match and its end on screen, this side's rods from
+    /// the board (USB, else the keyboard, mouse and gamepad, as in `play`).
+    #[arg(long, conflicts_with = "script")]
+    pub window: bool,
+    /// The board of `--window`: `auto`, `usb`, `emulated`, or `socket[:PATH]`.
+    #[arg(long, default_value = "auto", value_parser = parse_board, requires = "window")]
+    pub board: BoardChoice,
+    /// Close the window this many seconds after its first frame, or once the match is
+    /// over (unattended checks).
+    #[arg(long, hide = true, requires = "window")]
+    pub exit_after_s: Option<f64>,
     /// Local UDP port (by address).
     #[arg(long, default_value_t = 7000)]
     pub port: u16,
@@ -71,6 +83,10 @@ pub struct JoinArgs {
     pub common: Common,
 }
 
+fn parse_board(s: &str) -> Result<BoardChoice, String> {
+    s.parse()
+}
+
 fn address(text: &str) -> Result<SocketAddr> {
     text.to_socket_addrs()
         .with_context(|| format!("{text:?} is not an address (HOST:PORT)"))?
@@ -100,7 +116,7 @@ fn run(side: Side, remote: Option<&str>, c: &Common) -> Result<()> {
         (None, Some(remote)) => Peer::Address(address(remote)?),
         (None, None) => bail!("give the other side's address, or --room NAME"),
     };
-    let outcome = play(OnlineOptions {
+    let opts = OnlineOptions {
         side,
         port: c.port,
         peer,
@@ -114,7 +130,14 @@ fn run(side: Side, remote: Option<&str>, c: &Common) -> Result<()> {
         input_delay: c.input_delay,
         record: c.record.clone(),
         history: c.history.clone(),
-    })?;
+    };
+    if c.window {
+        if crate::play::display().is_none() {
+            bail!("--window: no display found (neither DISPLAY nor WAYLAND_DISPLAY is set)");
+        }
+        return play_in_window(opts, c.board.clone(), c.exit_after_s);
+    }
+    let outcome = play(opts)?;
     println!("{}", serde_json::to_string(&outcome)?);
     if outcome.desyncs > 0 {
         bail!(

@@ -3,8 +3,11 @@
 //!
 //! * [`session`] — the desktop's loop around the shared session, the outcome, the
 //!   recording and the history.
+//! * [`window`] — the online match in the game's window (`--window`): the lobby, the
+//!   match, its end, this side's rods from the board or the keyboard.
 //! * [`cli`] — `space-foosball host` and `space-foosball join ADDRESS`, or `--room NAME`
-//!   (headless).
+//!   (headless, or `--window`).
 
 pub mod cli;
 pub mod session;
+pub mod window;

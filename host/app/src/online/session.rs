@@ -2,8 +2,10 @@
 //! polled from a loop that sleeps between frames, over UDP to an address or over WebRTC
 //! to a room's other side; the outcome, the recording and the history at the end.
 
+use super::window::{KeepMatch, OnlineWindow};
 use crate::history::record::now_unix_s;
 use crate::history::{HistoryStore, MatchRecord, Mode};
+use crate::window::board::BoardChoice;
 use anyhow::{bail, Context, Result};
 use foosball_sim::motion::script::MotionScript;
 use foosball_sim::motion::MotionSource;
@@ -15,8 +17,9 @@ use space_foosball::rules::{Event, TimedEvent};
 use space_foosball::side::Side;
 use space_foosball::Table;
 use space_foosball_front::online::input::SideInput;
-use space_foosball_front::online::rollback::{MatchTerms, FPS};
-use space_foosball_front::online::room::{room_url, PeerChannel, PeerId, Room};
+use space_foosball_front::online::rollback::{MatchTerms, OnlineMatch, FPS};
+use space_foosball_front::online::room::{room_url, PeerChannel, PeerId, Room, TrafficError};
+use space_foosball_front::online::screen::{in_room, Connect, OnlineScreen, OnlineView};
 use space_foosball_front::online::session::{
     Notice, OnlineError, OnlineSession, Stand, CONNECT_TIMEOUT_S,
 };
@@ -153,20 +156,7 @@ where
 {
     let online = sess.game();
     let m = online.game();
-    if let Some(path) = &opts.record {
-        save_recording(m, path)?;
-    }
-    if let Some(path) = &opts.history {
-        keep_in_history(
-            &online.kept_events(),
-            online.table(),
-            opts.side,
-            peer,
-            opts.terms.seed,
-            path,
-            Some(m.recording()),
-        )?;
-    }
+    keep_over(online, opts, peer)?;
     let (rollbacks, resimulated_frames) = online.rollbacks();
     Ok(OnlineOutcome {
         event: "OnlineOver",
@@ -265,16 +255,25 @@ where
     Ok(out)
 }
 
-/// Opens room `name` on `signal` and waits for its other side: the room (kept open for the
-/// match), the other side and the data channel to it.
-fn meet_in_room(signal: &str, name: &str, clock: Instant) -> Result<(Room, PeerId, PeerChannel)> {
+/// The room's traffic on its own thread, for as long as the process plays: the thread
+/// ends with the socket's error (the signalling server unreachable or gone).
+type Traffic = std::thread::JoinHandle<Result<(), TrafficError>>;
+
+/// Opens room `name` on the signalling server `signal`, its traffic carried on a thread.
+fn open_room(signal: &str, name: &str) -> Result<(Room, Traffic)> {
     let url = room_url(signal, name)?;
-    let (mut room, carried) = Room::open(&url);
-    // The socket's traffic on its own thread, for as long as the process plays.
+    let (room, carried) = Room::open(&url);
     let traffic = std::thread::Builder::new()
         .name("room".into())
         .spawn(move || futures::executor::block_on(carried))
         .context("starting the room's thread")?;
+    Ok((room, traffic))
+}
+
+/// Opens room `name` on `signal` and waits for its other side: the room (kept open for the
+/// match), the other side and the data channel to it.
+fn meet_in_room(signal: &str, name: &str, clock: Instant) -> Result<(Room, PeerId, PeerChannel)> {
+    let (mut room, traffic) = open_room(signal, name)?;
     eprintln!("space-foosball: waiting in room {name} on {signal}");
     loop {
         if let Some(peer) = room.peer() {
@@ -295,6 +294,84 @@ fn meet_in_room(signal: &str, name: &str, clock: Instant) -> Result<(Room, PeerI
         }
         std::thread::sleep(Duration::from_millis(5));
     }
+}
+
+/// Keeps a match that is over where `opts` asks (its recording, the history).
+fn keep_over(online: &OnlineMatch, opts: &OnlineOptions, peer: &str) -> Result<()> {
+    let m = online.game();
+    if let Some(path) = &opts.record {
+        save_recording(m, path)?;
+    }
+    if let Some(path) = &opts.history {
+        keep_in_history(
+            &online.kept_events(),
+            online.table(),
+            opts.side,
+            peer,
+            opts.terms.seed,
+            path,
+            Some(m.recording()),
+        )?;
+    }
+    Ok(())
+}
+
+/// Plays an online match in a window (see `online::window`), its rods from `board`; the
+/// status at the end is the last line on stdout. An error where it stopped before its
+/// end or the sides differed.
+pub fn play_in_window(
+    opts: OnlineOptions,
+    board: BoardChoice,
+    exit_after_s: Option<f64>,
+) -> Result<()> {
+    let (side, delay, terms) = (opts.side, opts.input_delay, opts.terms.clone());
+    let (view, peer): (Box<dyn OnlineView>, String) = match &opts.peer {
+        Peer::Address(remote) => {
+            let remote = *remote;
+            let mut socket = Some(
+                UdpNonBlockingSocket::bind_to_port(opts.port)
+                    .with_context(|| format!("UDP port {}", opts.port))?,
+            );
+            let start = terms.clone();
+            let connect: Connect<SocketAddr> = Box::new(move |now_s| match socket.take() {
+                Some(s) => OnlineSession::start(s, remote, side, &start, delay, now_s).map(Some),
+                None => Ok(None),
+            });
+            let place = remote.to_string();
+            let screen = OnlineScreen::new(connect, &place, side, &terms, delay)?;
+            (Box::new(screen), place)
+        }
+        Peer::Room { signal, name } => {
+            // The traffic thread ends with the process; a dead server shows as nobody
+            // coming to the room.
+            let (room, _traffic) = open_room(signal, name)?;
+            let connect = in_room(room, side, terms.clone(), delay);
+            let place = format!("room {name}");
+            let screen = OnlineScreen::new(connect, &place, side, &terms, delay)?;
+            (Box::new(screen), place)
+        }
+    };
+    let table = terms.table.clone();
+    let window = OnlineWindow {
+        board,
+        calibration_path: crate::window::args::default_calibration_path(),
+        size: (1280, 720),
+        fullscreen: false,
+        exit_after_s,
+    };
+    let keep: KeepMatch = Box::new(move |online| keep_over(online, &opts, &peer));
+    let status = super::window::run(view, side, table, window, keep)?;
+    println!("{}", serde_json::to_string(&status)?);
+    if let Some(why) = &status.error {
+        bail!("the online match stopped: {}", why.to_lowercase());
+    }
+    if status.desyncs > 0 {
+        bail!(
+            "the two sides' matches differed ({} desyncs)",
+            status.desyncs
+        );
+    }
+    Ok(())
 }
 
 /// Plays an online match to its end (or `max_frames`); its outcome.

@@ -93,6 +93,56 @@ pub fn run(options: WindowOptions) -> Result<()> {
     Ok(())
 }
 
+/// A click hands the mouse to the game (hidden, kept in the window: its motion slides and
+/// spins the rod); `Esc` or leaving the window gives it back.
+pub(crate) fn grab_mouse(w: &Window, grab: bool) {
+    if grab {
+        // Locked where the platform can, else confined; neither is fatal.
+        let _ = w
+            .set_cursor_grab(CursorGrabMode::Locked)
+            .or_else(|_| w.set_cursor_grab(CursorGrabMode::Confined));
+    } else {
+        let _ = w.set_cursor_grab(CursorGrabMode::None);
+    }
+    w.set_cursor_visible(!grab);
+}
+
+/// A wheel's turn in lines (> 0: away from the player).
+pub(crate) fn wheel_lines(delta: MouseScrollDelta) -> f64 {
+    match delta {
+        MouseScrollDelta::LineDelta(_, y) => f64::from(y),
+        MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
+    }
+}
+
+/// Opens the game's window (`size` pixels, or borderless fullscreen) and its renderer.
+pub(crate) fn open_window(
+    el: &ActiveEventLoop,
+    (w, h): (u32, u32),
+    fullscreen: bool,
+    present: PresentChoice,
+) -> Result<(Arc<Window>, WindowRenderer)> {
+    let mut attrs = Window::default_attributes()
+        .with_title("Space Foosball")
+        .with_inner_size(PhysicalSize::new(w, h));
+    if fullscreen {
+        attrs = attrs.with_fullscreen(Some(Fullscreen::Borderless(None)));
+    }
+    let window = Arc::new(
+        el.create_window(attrs)
+            .map_err(|e| anyhow!(e).context("could not open the window"))?,
+    );
+    let size = window.inner_size();
+    let (w, h) = if size.width > 0 && size.height > 0 {
+        (size.width, size.height)
+    } else {
+        (w, h)
+    };
+    let renderer =
+        WindowRenderer::new(Arc::clone(&window), w, h, present).map_err(|e| anyhow!(e))?;
+    Ok((window, renderer))
+}
+
 struct App {
     options: WindowOptions,
     window: Option<Arc<Window>>,
@@ -296,19 +346,10 @@ impl App {
         );
     }
 
-    /// A click hands the mouse to the game (hidden, kept in the window: its motion
-    /// slides and spins the rod); `Esc` or leaving the window gives it back.
     fn grab_mouse(&mut self, grab: bool) {
-        let Some(w) = &self.window else { return };
-        if grab {
-            // Locked where the platform can, else confined; neither is fatal.
-            let _ = w
-                .set_cursor_grab(CursorGrabMode::Locked)
-                .or_else(|_| w.set_cursor_grab(CursorGrabMode::Confined));
-        } else {
-            let _ = w.set_cursor_grab(CursorGrabMode::None);
+        if let Some(w) = &self.window {
+            grab_mouse(w, grab);
         }
-        w.set_cursor_visible(!grab);
     }
 
     fn key(&mut self, el: &ActiveEventLoop, code: KeyCode, pressed: bool) {
@@ -439,36 +480,24 @@ impl ApplicationHandler for App {
         if self.window.is_some() {
             return;
         }
-        let (w, h) = self.options.size;
-        let mut attrs = Window::default_attributes()
-            .with_title("Space Foosball")
-            .with_inner_size(PhysicalSize::new(w, h));
-        if self.options.fullscreen {
-            attrs = attrs.with_fullscreen(Some(Fullscreen::Borderless(None)));
-        }
-        let window = match el.create_window(attrs) {
-            Ok(w) => Arc::new(w),
-            Err(e) => return self.fail(el, anyhow!(e).context("could not open the window")),
+        let opened = open_window(
+            el,
+            self.options.size,
+            self.options.fullscreen,
+            self.options.present,
+        );
+        let (window, r) = match opened {
+            Ok(o) => o,
+            Err(e) => return self.fail(el, e),
         };
-        let size = window.inner_size();
-        let (w, h) = if size.width > 0 && size.height > 0 {
-            (size.width, size.height)
-        } else {
-            (w, h)
-        };
-        match WindowRenderer::new(Arc::clone(&window), w, h, self.options.present) {
-            Ok(r) => {
-                eprintln!(
-                    "space-foosball: drawing on {} ({}), present mode {}, board: {}",
-                    r.adapter().name,
-                    r.adapter().backend,
-                    r.present_mode(),
-                    self.session.board_name()
-                );
-                self.renderer = Some(r);
-            }
-            Err(e) => return self.fail(el, anyhow!(e)),
-        }
+        eprintln!(
+            "space-foosball: drawing on {} ({}), present mode {}, board: {}",
+            r.adapter().name,
+            r.adapter().backend,
+            r.present_mode(),
+            self.session.board_name()
+        );
+        self.renderer = Some(r);
         window.request_redraw();
         self.window = Some(window);
     }
@@ -491,13 +520,7 @@ impl ApplicationHandler for App {
                     },
                 ..
             } => self.key(el, code, state == ElementState::Pressed),
-            WindowEvent::MouseWheel { delta, .. } => {
-                let lines = match delta {
-                    MouseScrollDelta::LineDelta(_, y) => f64::from(y),
-                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
-                };
-                self.controls.wheel(lines);
-            }
+            WindowEvent::MouseWheel { delta, .. } => self.controls.wheel(wheel_lines(delta)),
             WindowEvent::MouseInput {
                 state: ElementState::Pressed,
                 ..

@@ -9,6 +9,8 @@
 //! * [`session`] — the frame loop on the caller's clock: connecting, playing, the end
 //!   both sides confirmed, the other side gone; desyncs detected from the state's
 //!   checksum.
+//! * [`screen`] — what an online match shows (lobby, match, end, why it stopped), in
+//!   the desktop's window and in the page.
 //! * [`rollback_timing`] — what a rollback of eight frames costs (`bench rollback` on
 //!   the desktop, the page's own figure in the browser).
 //! * [`room`] — a match by room name through a signalling server (`matchbox_server`),
@@ -18,4 +20,5 @@ pub mod input;
 pub mod rollback;
 pub mod rollback_timing;
 pub mod room;
+pub mod screen;
 pub mod session;

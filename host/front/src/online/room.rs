@@ -7,7 +7,7 @@
 use ggrs::{Message, NonBlockingSocket};
 use matchbox_socket::{MessageLoopFuture, PeerState, WebRtcChannel, WebRtcSocket};
 
-pub use matchbox_socket::PeerId;
+pub use matchbox_socket::{Error as TrafficError, PeerId};
 
 /// The signalling server a room is looked up on when none is named: `matchbox_server`
 /// on this machine, on its default port.

@@ -76,6 +76,9 @@ pub enum OnlineError {
     /// The match could not be set up.
     #[error("the match: {0}")]
     Match(#[from] space_foosball::play::MatchError),
+    /// The room's data channel was taken already.
+    #[error("the room's data channel is gone")]
+    ChannelGone,
     /// GGRS asked for a state it never had saved.
     #[error("the rollback session lost the match's state of frame {frame}")]
     LostState {

@@ -312,7 +312,7 @@ impl App {
         };
         online.keyboard().gamepad(pad);
         let (snapshot, screen, hud) = online.frame(now);
-        let online_status = online.status();
+        let online_status = serde_json::to_value(online.status()).unwrap_or_default();
         let Some(renderer) = self.renderer_ready() else {
             with_shared(|s| s.status = serde_json::json!({ "online": online_status }).to_string());
             return;
