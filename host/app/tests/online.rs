@@ -228,6 +228,51 @@ fn a_side_that_leaves_ends_the_match_with_it_kept() {
     // At least the second both sides played, and not the hour the host asked for.
     let ms = kept["time_ms"].as_u64().unwrap();
     assert!((1000..60_000).contains(&ms), "kept {ms} ms");
+
+    // Both sides resume the kept match from the same file and play two more seconds: they
+    // end alike, on the offline run of the whole match's inputs.
+    // The kept match ends where frame `kept_frames` starts (at ⌊f × 1000 / 60⌋ ms).
+    let kept_frames = (ms * 60).div_ceil(1000);
+    assert_eq!(
+        kept_frames * 1000 / 60,
+        ms,
+        "kept {ms} ms: not a frame's start"
+    );
+    let frames = (kept_frames + 120).to_string();
+    let (port_h, port_j) = (free_port(), free_port());
+    let whole = dir.path().join("whole.json");
+    let host = Command::new(BIN)
+        .args(["host", "--peer", &format!("127.0.0.1:{port_j}")])
+        .args(["--port", &port_h.to_string(), "--max-frames", &frames])
+        .arg("--resume")
+        .arg(&rec)
+        .arg("--record")
+        .arg(&whole)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let joiner = Command::new(BIN)
+        .args(["join", &format!("127.0.0.1:{port_h}")])
+        .args(["--port", &port_j.to_string(), "--max-frames", &frames])
+        .arg("--resume")
+        .arg(&rec)
+        .output()
+        .unwrap();
+    let host = host.wait_with_output().unwrap();
+    let (h, j) = (outcome(&host, "host"), outcome(&joiner, "join"));
+    for o in [&h, &j] {
+        assert_eq!(o["desyncs"], 0, "{o}");
+        assert_eq!(o["frames"].to_string(), frames, "{o}");
+    }
+    assert_eq!(h["state_hash"], j["state_hash"]);
+    let offline = offline_run(&whole);
+    assert_eq!(offline["state_hash"], h["state_hash"], "offline {offline}");
+    assert_eq!(
+        offline["time_ms"],
+        (kept_frames + 120) * 1000 / 60,
+        "{offline}"
+    );
 }
 
 #[test]

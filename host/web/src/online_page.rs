@@ -12,14 +12,14 @@ use space_foosball::side::Side;
 use space_foosball::table::Table;
 use space_foosball_front::controls::Key;
 use space_foosball_front::online::input::SideInput;
-use space_foosball_front::online::rollback::{steps_of_frame, MatchTerms};
-use space_foosball_front::online::room::{PeerId, Room};
+use space_foosball_front::online::rollback::{steps_of_frame, MatchTerms, OnlineMatch};
+use space_foosball_front::online::room::{PeerChannel, PeerId, Room};
 use space_foosball_front::online::screen::{in_room, OnlineScreen, OnlineStatus, OnlineView};
 use space_foosball_front::online::session::OnlineError;
 
 /// The page's online match. See the [module](self).
 pub struct OnlinePage {
-    screen: OnlineScreen<PeerId>,
+    screen: OnlineScreen<PeerId, PeerChannel>,
     table: Table,
     side: Side,
     keyboard: KeyboardBoard,
@@ -45,12 +45,12 @@ impl OnlinePage {
         let table = terms.table.clone();
         let place = format!("room {room_name}");
         let screen = OnlineScreen::new(
-            in_room(room, side, terms.clone(), input_delay),
+            in_room(room),
             &place,
             side,
-            &terms,
+            OnlineMatch::new(&terms)?,
             input_delay,
-        )?;
+        );
         Ok(Self {
             screen,
             table,

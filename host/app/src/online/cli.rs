@@ -5,6 +5,7 @@ use super::session::{play, play_in_window, LocalRods, OnlineOptions, Peer};
 use crate::window::board::BoardChoice;
 use anyhow::{bail, Context, Result};
 use foosball_sim::motion::script::MotionScript;
+use space_foosball::recording::MatchRecording;
 use space_foosball::side::Side;
 use space_foosball_front::online::rollback::MatchTerms;
 use space_foosball_front::online::room::DEFAULT_SIGNAL;
@@ -61,6 +62,10 @@ pub struct Common {
     /// Keep the finished match in this match history (see `space-foosball history`).
     #[arg(long, value_name = "FILE")]
     pub history: Option<PathBuf>,
+    /// Resume the match kept in this recording (`--record` of a match the other side
+    /// left), both sides from the same file: its table, seed and goals are used.
+    #[arg(long, value_name = "FILE")]
+    pub resume: Option<PathBuf>,
 }
 
 /// Arguments of `space-foosball host`.
@@ -116,16 +121,34 @@ fn run(side: Side, remote: Option<&str>, c: &Common) -> Result<()> {
         (None, Some(remote)) => Peer::Address(address(remote)?),
         (None, None) => bail!("give the other side's address, or --room NAME"),
     };
-    let opts = OnlineOptions {
-        side,
-        port: c.port,
-        peer,
-        terms: MatchTerms {
+    let resume = match &c.resume {
+        Some(path) => Some(
+            MatchRecording::load(path)
+                .map_err(|e| anyhow::anyhow!("{e}"))
+                .with_context(|| format!("the kept match {}", path.display()))?,
+        ),
+        None => None,
+    };
+    let terms = match &resume {
+        Some(r) => MatchTerms {
+            table: r.table.clone(),
+            seed: r.seed,
+            goals: r.rules.goals_to_win,
+            max_frames: c.max_frames,
+        },
+        None => MatchTerms {
             table: crate::headless::load_table(&c.table)?,
             seed: c.seed,
             goals: c.goals,
             max_frames: c.max_frames,
         },
+    };
+    let opts = OnlineOptions {
+        side,
+        port: c.port,
+        peer,
+        terms,
+        resume,
         rods,
         input_delay: c.input_delay,
         record: c.record.clone(),

@@ -59,8 +59,11 @@ pub struct OnlineOptions {
     pub port: u16,
     /// The other side.
     pub peer: Peer,
-    /// Table, seed, goals and frames: both sides must use the same.
+    /// Table, seed, goals and frames: both sides must use the same (a resumed match's are
+    /// its recording's).
     pub terms: MatchTerms,
+    /// The kept match to resume (both sides the same), instead of a new one.
+    pub resume: Option<MatchRecording>,
     /// What drives this side's rods.
     pub rods: LocalRods,
     /// Frames of input delay.
@@ -149,6 +152,16 @@ fn keep_in_history(
     Ok(())
 }
 
+/// The match to play: new on the terms, or the kept one resumed.
+fn online_match(opts: &OnlineOptions) -> Result<OnlineMatch> {
+    match &opts.resume {
+        Some(recording) => {
+            OnlineMatch::resume(recording, opts.terms.max_frames).context("resuming the kept match")
+        }
+        None => OnlineMatch::new(&opts.terms).context("match"),
+    }
+}
+
 /// The outcome once the match has ended, keeping it where asked.
 fn finish<A>(sess: &OnlineSession<A>, opts: &OnlineOptions, peer: &str) -> Result<OnlineOutcome>
 where
@@ -210,7 +223,7 @@ where
         socket,
         remote,
         opts.side,
-        &opts.terms,
+        online_match(opts)?,
         opts.input_delay,
         now(),
     )?;
@@ -324,7 +337,8 @@ pub fn play_in_window(
     board: BoardChoice,
     exit_after_s: Option<f64>,
 ) -> Result<()> {
-    let (side, delay, terms) = (opts.side, opts.input_delay, opts.terms.clone());
+    let (side, delay) = (opts.side, opts.input_delay);
+    let game = online_match(&opts)?;
     let (view, peer): (Box<dyn OnlineView>, String) = match &opts.peer {
         Peer::Address(remote) => {
             let remote = *remote;
@@ -332,26 +346,22 @@ pub fn play_in_window(
                 UdpNonBlockingSocket::bind_to_port(opts.port)
                     .with_context(|| format!("UDP port {}", opts.port))?,
             );
-            let start = terms.clone();
-            let connect: Connect<SocketAddr> = Box::new(move |now_s| match socket.take() {
-                Some(s) => OnlineSession::start(s, remote, side, &start, delay, now_s).map(Some),
-                None => Ok(None),
-            });
+            let connect: Connect<SocketAddr, UdpNonBlockingSocket> =
+                Box::new(move || Ok(socket.take().map(|s| (s, remote))));
             let place = remote.to_string();
-            let screen = OnlineScreen::new(connect, &place, side, &terms, delay)?;
+            let screen = OnlineScreen::new(connect, &place, side, game, delay);
             (Box::new(screen), place)
         }
         Peer::Room { signal, name } => {
             // The traffic thread ends with the process; a dead server shows as nobody
             // coming to the room.
             let (room, _traffic) = open_room(signal, name)?;
-            let connect = in_room(room, side, terms.clone(), delay);
             let place = format!("room {name}");
-            let screen = OnlineScreen::new(connect, &place, side, &terms, delay)?;
+            let screen = OnlineScreen::new(in_room(room), &place, side, game, delay);
             (Box::new(screen), place)
         }
     };
-    let table = terms.table.clone();
+    let table = opts.terms.table.clone();
     let window = OnlineWindow {
         board,
         calibration_path: crate::window::args::default_calibration_path(),

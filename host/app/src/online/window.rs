@@ -172,7 +172,7 @@ impl App {
         if !self.kept && self.view.status().stage == "over" {
             self.kept = true;
             self.over_at = Some(Instant::now());
-            if let Err(e) = (self.keep)(self.view.game()) {
+            if let Some(Err(e)) = self.view.game().map(|g| (self.keep)(g)) {
                 eprintln!("space-foosball: {e:#}");
             }
         }

@@ -6,6 +6,7 @@ use super::input::{rod_inputs, SideInput};
 use super::session::OnlineError;
 use ggrs::{Config, GgrsRequest, PredictRepeatLast};
 use space_foosball::play::{Match, MatchConfig, MatchError, RodController, SavedMatch};
+use space_foosball::recording::{MatchRecording, RecordingError};
 use space_foosball::rules::{Event, RulesConfig, TimedEvent};
 use space_foosball::Table;
 use std::collections::VecDeque;
@@ -43,7 +44,12 @@ pub struct FrameState {
 
 /// The steps of frame `f`: from `f × 1000 / 60` to `(f + 1) × 1000 / 60` ms.
 pub fn steps_of_frame(frame: u64) -> u64 {
-    (frame + 1) * 1000 / FPS - frame * 1000 / FPS
+    frame_start_ms(frame + 1) - frame_start_ms(frame)
+}
+
+/// The match time frame `f` starts at, ms (one physics step per ms).
+fn frame_start_ms(frame: u64) -> u64 {
+    frame * 1000 / FPS
 }
 
 /// What both sides must agree on to play one match.
@@ -66,6 +72,8 @@ pub struct OnlineMatch {
     table: Table,
     /// The frame the match's state is at (frames before it are stepped).
     state_frame: u64,
+    /// The match's frame of the session's frame 0 (a resumed match's kept frames).
+    first_frame: u64,
     /// The frame after which the match ended in this timeline (a rollback may undo it).
     over_at: Option<u64>,
     /// The last frame stepped (`max_frames`), or none.
@@ -91,6 +99,7 @@ impl OnlineMatch {
             m: Match::new(config)?,
             table: terms.table.clone(),
             state_frame: 0,
+            first_frame: 0,
             over_at: None,
             last_frame: terms.max_frames.unwrap_or(u64::MAX),
             rollbacks: 0,
@@ -98,6 +107,49 @@ impl OnlineMatch {
             saves: VecDeque::with_capacity(MAX_PREDICTION_FRAMES + 2),
             kept_events: Vec::new(),
         })
+    }
+
+    /// Resumes the match kept in `recording` (an online match's, kept to a frame both
+    /// sides played): replayed to its end, it goes on from there, the session's frame 0
+    /// being its next frame. `max_frames` counts from the match's start. Both sides must
+    /// resume from the same recording (a desync shows it otherwise).
+    pub fn resume(recording: &MatchRecording, max_frames: Option<u64>) -> Result<Self, MatchError> {
+        let steps = recording.pose_steps() as u64;
+        let frames = (steps * FPS).div_ceil(1000);
+        if frame_start_ms(frames) != steps {
+            return Err(MatchError::Recording(RecordingError::Malformed(format!(
+                "{steps} steps do not end on a frame of an online match (1/{FPS} s)"
+            ))));
+        }
+        let (m, events) = Match::replay(recording, [RodController::Player; 2])?;
+        if m.is_over() {
+            return Err(MatchError::Recording(RecordingError::Malformed(
+                "the kept match is over: replay it instead".into(),
+            )));
+        }
+        let kept_events = events
+            .into_iter()
+            .filter(|e| matches!(e.event, Event::Kick { .. }))
+            .take(MAX_KEPT_EVENTS)
+            .map(|e| (e.t_ms * FPS / 1000, e))
+            .collect();
+        Ok(Self {
+            m,
+            table: recording.table.clone(),
+            state_frame: frames,
+            first_frame: frames,
+            over_at: None,
+            last_frame: max_frames.unwrap_or(u64::MAX),
+            rollbacks: 0,
+            resimulated: 0,
+            saves: VecDeque::with_capacity(MAX_PREDICTION_FRAMES + 2),
+            kept_events,
+        })
+    }
+
+    /// The match's frame of the session's frame `frame`.
+    pub fn match_frame(&self, frame: u64) -> u64 {
+        self.first_frame + frame
     }
 
     /// Carries out GGRS's requests of one frame.
@@ -125,7 +177,7 @@ impl OnlineMatch {
                         return Err(OnlineError::LostState { frame });
                     };
                     self.m.restore(&state.saved);
-                    self.state_frame = u64::try_from(state.frame).unwrap_or(0);
+                    self.state_frame = self.match_frame(u64::try_from(state.frame).unwrap_or(0));
                     self.kept_events.retain(|(f, _)| *f < self.state_frame);
                     if !self.m.is_over() {
                         self.over_at = None;
@@ -175,13 +227,13 @@ impl OnlineMatch {
         self.over_at.unwrap_or(self.last_frame).min(self.last_frame)
     }
 
-    /// The frame the match's state is at.
+    /// The match's frame its state is at.
     pub fn state_frame(&self) -> u64 {
         self.state_frame
     }
 
-    /// Restores the match to the start of frame `frame` where it is still saved (the
-    /// other side left: the match as far as both confirmed it); whether it was.
+    /// Restores the match to the start of the session's frame `frame` where it is still
+    /// saved (the other side left: the match as far as both confirmed it); whether it was.
     pub fn restore_to(&mut self, frame: u64) -> bool {
         match self
             .saves
@@ -220,6 +272,31 @@ impl OnlineMatch {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_kept_match_resumes_where_it_was_kept_and_only_on_a_frame() {
+        let table = Table::standard();
+        let mut config = MatchConfig::computer_vs_computer(table.clone(), 3);
+        config.controllers = [RodController::Player; 2];
+        let mut m = Match::new(config.clone()).unwrap();
+        let idle = space_foosball::play::idle_inputs(&table);
+        // Frame 157 starts at step 2616 (157 000 / 60, rounded down); 2617 is no frame's.
+        for _ in 0..2617 {
+            m.step(&idle);
+        }
+        let mut kept = m.recording().clone();
+        let refused = OnlineMatch::resume(&kept, None).err().unwrap();
+        assert!(refused.to_string().contains("frame"), "{refused}");
+        kept.truncate_poses(2616);
+        let resumed = OnlineMatch::resume(&kept, Some(200)).unwrap();
+        assert_eq!((resumed.state_frame(), resumed.match_frame(3)), (157, 160));
+        assert_eq!(resumed.end(), 200);
+        let mut again = Match::new(config).unwrap();
+        for _ in 0..2616 {
+            again.step(&idle);
+        }
+        assert_eq!(resumed.game().state_hash(), again.state_hash());
+    }
 
     #[test]
     fn frames_hold_the_steps_of_a_second_between_them() {

@@ -3,39 +3,31 @@
 //! why it stopped (nobody came, the other side left, the two sides' matches differ).
 
 use super::input::SideInput;
-use super::rollback::{MatchTerms, OnlineMatch};
-use super::room::{PeerId, Room};
+use super::rollback::OnlineMatch;
+use super::room::{PeerChannel, PeerId, Room};
 use super::session::{Notice, OnlineError, OnlineSession, Stand, CONNECT_TIMEOUT_S};
 use crate::match_scene::MatchScene;
 use foosball_render::{FrameSnapshot, Hud, Screen};
+use ggrs::NonBlockingSocket;
 use serde::Serialize;
+use space_foosball::play::MatchSnapshot;
 use space_foosball::side::Side;
 use std::fmt::Debug;
 use std::hash::Hash;
 
-/// Tries to start the session (the caller's clock, s): `None` while the other side has
-/// not come yet.
-pub type Connect<A> = Box<dyn FnMut(f64) -> Result<Option<OnlineSession<A>>, OnlineError>>;
+/// Looks for the other side (no sooner than asked): the socket to it and its name, once
+/// it is there; `None` while it has not come yet.
+pub type Connect<A, S> = Box<dyn FnMut() -> Result<Option<(S, A)>, OnlineError>>;
 
 /// Where a match by room starts: when the room's other side has come, over its channel.
 /// The room stays open inside the returned closure for as long as it is kept.
-pub fn in_room(
-    mut room: Room,
-    side: Side,
-    terms: MatchTerms,
-    input_delay: usize,
-) -> Connect<PeerId> {
-    let mut started = false;
-    Box::new(move |now_s| {
-        if started {
-            return Ok(None);
-        }
+pub fn in_room(mut room: Room) -> Connect<PeerId, PeerChannel> {
+    Box::new(move || {
         let Some(peer) = room.peer() else {
             return Ok(None);
         };
         let channel = room.take_channel().ok_or(OnlineError::ChannelGone)?;
-        started = true;
-        OnlineSession::start(channel, peer, side, &terms, input_delay, now_s).map(Some)
+        Ok(Some((channel, peer)))
     })
 }
 
@@ -84,20 +76,23 @@ pub trait OnlineView {
     ) -> (FrameSnapshot, Screen, Hud);
     /// Where it stands.
     fn status(&self) -> OnlineStatus;
-    /// The match as this side has it.
-    fn game(&self) -> &OnlineMatch;
+    /// The match as this side has it (none once a session failed to start with it).
+    fn game(&self) -> Option<&OnlineMatch>;
 }
 
-/// An online match as a screen, its peers named by `A`.
-pub struct OnlineScreen<A>
+/// An online match as a screen, its peers named by `A`, reached over sockets `S`.
+pub struct OnlineScreen<A, S>
 where
     A: Clone + PartialEq + Eq + Hash + Debug + Send + Sync + 'static,
+    S: NonBlockingSocket<A> + 'static,
 {
-    connect: Connect<A>,
+    connect: Connect<A, S>,
     session: Option<OnlineSession<A>>,
     stopped: Option<String>,
-    /// The match before the other side came (drawn in the lobby).
-    waiting: OnlineMatch,
+    /// The match until the other side comes (drawn in the lobby).
+    waiting: Option<OnlineMatch>,
+    /// The table at the start, drawn where there is no match.
+    rest: MatchSnapshot,
     scene: MatchScene,
     side: Side,
     place: String,
@@ -107,32 +102,34 @@ where
     desync_frames: Vec<i32>,
 }
 
-impl<A> OnlineScreen<A>
+impl<A, S> OnlineScreen<A, S>
 where
     A: Clone + PartialEq + Eq + Hash + Debug + Send + Sync + 'static,
+    S: NonBlockingSocket<A> + 'static,
 {
-    /// The match of `terms` played as `side` at `place` (a room's name, an address),
-    /// started by `connect`.
+    /// The match `game` played as `side` at `place` (a room's name, an address) with
+    /// `input_delay` frames of input delay, once `connect` finds the other side.
     pub fn new(
-        connect: Connect<A>,
+        connect: Connect<A, S>,
         place: &str,
         side: Side,
-        terms: &MatchTerms,
+        game: OnlineMatch,
         input_delay: usize,
-    ) -> Result<Self, OnlineError> {
-        Ok(Self {
+    ) -> Self {
+        Self {
             connect,
             session: None,
             stopped: None,
-            waiting: OnlineMatch::new(terms)?,
-            scene: MatchScene::new(&terms.table),
+            rest: game.game().snapshot(),
+            scene: MatchScene::new(game.table()),
+            waiting: Some(game),
             side,
             place: place.to_string(),
             input_delay,
             started_s: None,
             over: false,
             desync_frames: Vec::new(),
-        })
+        }
     }
 
     fn step(
@@ -142,8 +139,19 @@ where
     ) -> Result<(), OnlineError> {
         let started = *self.started_s.get_or_insert(now_s);
         if self.session.is_none() {
-            self.session = (self.connect)(now_s)?;
-            if self.session.is_none() && now_s - started > CONNECT_TIMEOUT_S {
+            if let Some((socket, remote)) = (self.connect)()? {
+                let Some(game) = self.waiting.take() else {
+                    return Ok(());
+                };
+                self.session = Some(OnlineSession::start(
+                    socket,
+                    remote,
+                    self.side,
+                    game,
+                    self.input_delay,
+                    now_s,
+                )?);
+            } else if now_s - started > CONNECT_TIMEOUT_S {
                 return Err(OnlineError::NoAnswer {
                     peer: self.place.clone(),
                 });
@@ -164,9 +172,10 @@ where
     }
 }
 
-impl<A> OnlineView for OnlineScreen<A>
+impl<A, S> OnlineView for OnlineScreen<A, S>
 where
     A: Clone + PartialEq + Eq + Hash + Debug + Send + Sync + 'static,
+    S: NonBlockingSocket<A> + 'static,
 {
     fn frame(
         &mut self,
@@ -178,7 +187,10 @@ where
                 self.stopped = Some(e.to_string().to_uppercase());
             }
         }
-        let snapshot = self.scene.snapshot(&self.game().game().snapshot());
+        let snapshot = match self.game() {
+            Some(g) => self.scene.snapshot(&g.game().snapshot()),
+            None => self.scene.snapshot(&self.rest),
+        };
         let team = format!("{:?}", self.side).to_uppercase();
         let mut hud = Hud::default();
         hud.lines.push(format!(
@@ -223,9 +235,17 @@ where
             (None, Some(_)) if self.over => "over",
             (None, Some(_)) => "playing",
         };
-        let game = self.game();
-        let m = game.game();
-        let (rollbacks, resimulated_frames) = game.rollbacks();
+        let (frames, match_over, score, state_hash, (rollbacks, resimulated_frames)) =
+            match self.game() {
+                Some(g) => (
+                    g.end().min(g.state_frame()),
+                    g.game().is_over(),
+                    g.game().score(),
+                    format!("{:032x}", g.game().state_hash()),
+                    g.rollbacks(),
+                ),
+                None => (0, false, self.rest.score, String::new(), (0, 0)),
+            };
         OnlineStatus {
             stage,
             error: self.stopped.clone(),
@@ -238,17 +258,20 @@ where
                 .and_then(OnlineSession::ping_ms)
                 .map(|p| u64::try_from(p).unwrap_or(u64::MAX)),
             input_delay_frames: self.input_delay,
-            frames: game.end().min(game.state_frame()),
-            match_over: m.is_over(),
-            score: m.score(),
-            state_hash: format!("{:032x}", m.state_hash()),
+            frames,
+            match_over,
+            score,
+            state_hash,
             desyncs: self.desync_frames.len(),
             rollbacks,
             resimulated_frames,
         }
     }
 
-    fn game(&self) -> &OnlineMatch {
-        self.session.as_ref().map_or(&self.waiting, |s| s.game())
+    fn game(&self) -> Option<&OnlineMatch> {
+        match &self.session {
+            Some(s) => Some(s.game()),
+            None => self.waiting.as_ref(),
+        }
     }
 }

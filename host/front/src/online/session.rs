@@ -2,7 +2,7 @@
 //! from a loop that sleeps between frames, the page once per animation frame.
 
 use super::input::SideInput;
-use super::rollback::{Foosball, MatchTerms, OnlineMatch, FPS, MAX_PREDICTION_FRAMES};
+use super::rollback::{Foosball, OnlineMatch, FPS, MAX_PREDICTION_FRAMES};
 use ggrs::{
     DesyncDetection, GgrsError, GgrsEvent, GgrsRequest, NonBlockingSocket, P2PSession, PlayerType,
     SessionBuilder, SessionState,
@@ -109,13 +109,13 @@ impl<A> OnlineSession<A>
 where
     A: Clone + PartialEq + Eq + Hash + Debug + Send + Sync + 'static,
 {
-    /// A session of `terms` played as `side` against `remote` over `socket`, `input_delay`
+    /// A session of `game` played as `side` against `remote` over `socket`, `input_delay`
     /// frames of input delay (0–8); `now_s` is the caller's clock.
     pub fn start(
         socket: impl NonBlockingSocket<A> + 'static,
         remote: A,
         side: Side,
-        terms: &MatchTerms,
+        game: OnlineMatch,
         input_delay: usize,
         now_s: f64,
     ) -> Result<Self, OnlineError> {
@@ -133,7 +133,7 @@ where
             .start_p2p_session(socket)?;
         Ok(Self {
             sess,
-            game: OnlineMatch::new(terms)?,
+            game,
             side,
             remote,
             next_s: None,
@@ -183,7 +183,8 @@ where
             // This side's rods for the frame the session is at (a frame held back for the
             // other side is asked for again, its input the same).
             let frame = u64::try_from(self.sess.current_frame()).unwrap_or(0);
-            self.sess.add_local_input(self.side.index(), local(frame))?;
+            let input = local(self.game.match_frame(frame));
+            self.sess.add_local_input(self.side.index(), input)?;
             let requests = match self.sess.advance_frame() {
                 Ok(requests) => requests,
                 Err(GgrsError::PredictionThreshold) => continue,
@@ -203,7 +204,7 @@ where
             // The state is final once every frame up to its end is confirmed by both sides.
             let end = self.game.end();
             let confirmed = u64::try_from(self.sess.confirmed_frame() + 1).unwrap_or(0);
-            self.over = self.game.state_frame() >= end && confirmed >= end;
+            self.over = self.game.state_frame() >= end && self.game.match_frame(confirmed) >= end;
         }
         Ok(match (self.over, self.lingered >= LINGER_FRAMES) {
             (false, _) => Stand::Playing,
@@ -226,7 +227,7 @@ where
                     self.game.restore_to(frame);
                     return Err(OnlineError::Left {
                         peer: format!("{addr:?}"),
-                        frame,
+                        frame: self.game.match_frame(frame),
                     });
                 }
                 GgrsEvent::NetworkInterrupted { .. } => notices.push(Notice::Interrupted),
