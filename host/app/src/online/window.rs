@@ -49,7 +49,8 @@ pub struct OnlineWindow {
     pub exit_after_s: Option<f64>,
 }
 
-/// Called once when the match is over on both sides: keeps it (recording, history).
+/// Called once when the match is over on both sides, or stopped after frames both sides
+/// played (the other side left): keeps it (recording, history).
 pub type KeepMatch = Box<dyn FnMut(&OnlineMatch) -> Result<()>>;
 
 struct App {
@@ -68,7 +69,7 @@ struct App {
     clock: Instant,
     last_tick: Instant,
     first_frame: Option<Instant>,
-    /// When the match was over on both sides.
+    /// When the match ended (over on both sides, or stopped).
     over_at: Option<Instant>,
     error: Option<anyhow::Error>,
 }
@@ -169,7 +170,11 @@ impl App {
             hud.lines
                 .insert(0, format!("KEYBOARD: ROD {rod}  ESC QUITS"));
         }
-        if !self.kept && self.view.status().stage == "over" {
+        // Kept once: at the end both sides confirmed, or as far as both played when the
+        // other side left.
+        let status = self.view.status();
+        let ended = status.stage == "over" || (status.stage == "stopped" && status.frames > 0);
+        if !self.kept && ended {
             self.kept = true;
             self.over_at = Some(Instant::now());
             if let Some(Err(e)) = self.view.game().map(|g| (self.keep)(g)) {

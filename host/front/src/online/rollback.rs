@@ -242,6 +242,7 @@ impl OnlineMatch {
         {
             Some(s) => {
                 self.m.restore(&s.saved);
+                self.state_frame = self.match_frame(frame);
                 true
             }
             None => false,
