@@ -55,6 +55,8 @@ struct PosedBox {
     sweep: f64,
     /// A half-space's world normal and offset `n · x ≤ offset` (its box is all of space).
     plane: Option<(V3, f64)>,
+    /// A box's half extents (m, along `rot`'s columns).
+    half: Option<V3>,
 }
 
 /// Slots the in-place update makes when a new contact finds none free
@@ -100,8 +102,27 @@ impl PosedBox {
         match (self.plane, other.plane) {
             (Some(p), _) => below(p, &other.aabb),
             (None, Some(p)) => below(p, &self.aabb),
-            (None, None) => self.aabb.loosened(margin).overlaps(&other.aabb),
+            (None, None) => {
+                self.aabb.loosened(margin).overlaps(&other.aabb)
+                    && !self.box_clears(&other.aabb, margin)
+                    && !other.box_clears(&self.aabb, margin)
+            }
         }
+    }
+
+    /// Whether this part is a box that stays farther than `margin` (m) from all of
+    /// `aabb` along one of its own axes: a turned box (a corner ramp) whose axis-aligned
+    /// box covers parts its faces are far from.
+    fn box_clears(&self, aabb: &Aabb, margin: f64) -> bool {
+        let Some(half) = self.half else {
+            return false;
+        };
+        let d = (aabb.min + aabb.max) * 0.5 - self.pos;
+        let e = (aabb.max - aabb.min) * 0.5;
+        (0..3).any(|i| {
+            let u = self.rot.column(i);
+            u.dot(&d).abs() > half[i] + u.abs().dot(&e) + margin
+        })
     }
 
     fn posed<'a>(&self, shape: &'a Shape) -> PosedPart<'a> {
@@ -155,6 +176,10 @@ impl PosedParts {
                             let n = p.rot * normal;
                             Some((n, n.dot(&p.pos)))
                         }
+                        _ => None,
+                    },
+                    half: match *p.shape {
+                        Shape::Cuboid { half } => Some(half),
                         _ => None,
                     },
                 });
@@ -673,6 +698,50 @@ mod tests {
     use super::*;
     use crate::geometry::compound::{Compound, Part};
     use std::sync::Arc;
+
+    /// A part as the compound pass poses it, for `meets`.
+    fn posed_box(shape: &Shape, rot: M3, pos: V3) -> PosedBox {
+        PosedBox {
+            index: 0,
+            rot,
+            pos,
+            aabb: shape.aabb(&rot, &pos),
+            sweep: 0.0,
+            plane: None,
+            half: match *shape {
+                Shape::Cuboid { half } => Some(half),
+                _ => None,
+            },
+        }
+    }
+
+    #[test]
+    fn a_turned_box_meets_only_the_parts_near_its_faces() {
+        // A long ramp turned 45° about y: its axis-aligned box covers a cube above its top
+        // face's middle, which is 0.3 m from the face.
+        let ramp = Shape::Cuboid {
+            half: V3::new(1.0, 1.0, 0.05),
+        };
+        let (s, c) = std::f64::consts::FRAC_PI_4.sin_cos();
+        let turned = M3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c);
+        let a = posed_box(&ramp, turned, V3::zeros());
+        let cube = Shape::Cuboid {
+            half: V3::repeat(0.05),
+        };
+        let normal = turned.column(2).into_owned();
+        let far = posed_box(&cube, M3::identity(), normal * 0.4);
+        assert!(a.aabb.overlaps(&far.aabb), "the boxes' bounds overlap");
+        assert!(!a.meets(&far, 0.01) && !far.meets(&a, 0.01));
+        // Within the margin of the face, and touching it: they meet.
+        let near = posed_box(&cube, M3::identity(), normal * 0.16);
+        assert!(a.meets(&near, 0.05) && near.meets(&a, 0.05));
+        assert!(!a.meets(&near, 0.01));
+        let touching = posed_box(&cube, M3::identity(), normal * 0.1);
+        assert!(a.meets(&touching, 0.0));
+        // A sphere's part is no box: only its bound is used.
+        let ball = Shape::Sphere { radius: 0.05 };
+        assert!(!a.meets(&posed_box(&ball, M3::identity(), normal * 0.4), 0.01));
+    }
 
     /// Unit boxes along x about 1 m apart, jittered step by step so that neighbours touch,
     /// part and touch again; one body in four asleep on some steps, and a compound last.
