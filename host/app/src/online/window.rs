@@ -9,7 +9,7 @@
 use crate::window::board::{self, BoardChoice};
 use crate::window::controls::{map_key, Controls, Key};
 use crate::window::gamepad::Gamepads;
-use crate::window::{grab_mouse, open_window, wheel_lines};
+use crate::window::{handle_event, open_window};
 use anyhow::{anyhow, Context, Result};
 use board_link::Board;
 use foosball_render::{PresentChoice, WindowRenderer};
@@ -26,9 +26,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
 use winit::application::ApplicationHandler;
-use winit::event::{DeviceEvent, DeviceId, ElementState, KeyEvent, WindowEvent};
+use winit::event::{DeviceEvent, DeviceId, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
-use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::keyboard::KeyCode;
 use winit::window::{Window, WindowId};
 
 /// Most reports taken from the board in one frame (a backlog after a stall).
@@ -242,40 +242,19 @@ impl ApplicationHandler for App {
     }
 
     fn window_event(&mut self, el: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
-        match event {
-            WindowEvent::CloseRequested => el.exit(),
-            WindowEvent::Resized(size) => {
-                if let Some(r) = &mut self.renderer {
-                    r.resize(size.width, size.height);
-                }
-            }
-            WindowEvent::KeyboardInput {
-                event:
-                    KeyEvent {
-                        physical_key: PhysicalKey::Code(code),
-                        state,
-                        repeat: false,
-                        ..
-                    },
-                ..
-            } => self.key(el, code, state == ElementState::Pressed),
-            WindowEvent::MouseWheel { delta, .. } => self.controls.wheel(wheel_lines(delta)),
-            WindowEvent::MouseInput {
-                state: ElementState::Pressed,
-                ..
-            } => {
-                if let Some(w) = &self.window {
-                    grab_mouse(w, true);
-                }
-            }
-            WindowEvent::Focused(false) => {
-                if let Some(w) = &self.window {
-                    grab_mouse(w, false);
-                }
-                self.controls.release_all();
-            }
-            WindowEvent::RedrawRequested => self.redraw(el),
-            _ => {}
+        if event == WindowEvent::RedrawRequested {
+            return self.redraw(el);
+        }
+        let window = self.window.clone();
+        let key = handle_event(
+            el,
+            &event,
+            window.as_deref(),
+            self.renderer.as_mut(),
+            &mut self.controls,
+        );
+        if let Some((code, pressed)) = key {
+            self.key(el, code, pressed);
         }
     }
 

@@ -143,6 +143,55 @@ pub(crate) fn open_window(
     Ok((window, renderer))
 }
 
+/// What the game's window makes of `event` besides drawing, shared by `play`'s window and
+/// the online window: it closes, resizes the renderer, moves the emulated rods (wheel),
+/// grabs the mouse on a click and lets go of it and of every held key when the window
+/// loses focus. A key pressed or released is returned for the caller's own keys.
+pub(crate) fn handle_event(
+    el: &ActiveEventLoop,
+    event: &WindowEvent,
+    window: Option<&Window>,
+    renderer: Option<&mut WindowRenderer>,
+    controls: &mut Controls,
+) -> Option<(KeyCode, bool)> {
+    match event {
+        WindowEvent::CloseRequested => el.exit(),
+        WindowEvent::Resized(size) => {
+            if let Some(r) = renderer {
+                r.resize(size.width, size.height);
+            }
+        }
+        WindowEvent::KeyboardInput {
+            event:
+                KeyEvent {
+                    physical_key: PhysicalKey::Code(code),
+                    state,
+                    repeat: false,
+                    ..
+                },
+            ..
+        } => return Some((*code, *state == ElementState::Pressed)),
+        WindowEvent::MouseWheel { delta, .. } => controls.wheel(wheel_lines(*delta)),
+        WindowEvent::MouseInput {
+            state: ElementState::Pressed,
+            ..
+        } => {
+            if let Some(w) = window {
+                grab_mouse(w, true);
+            }
+        }
+        WindowEvent::Focused(false) => {
+            if let Some(w) = window {
+                grab_mouse(w, false);
+            }
+            // Keys released while the window had no focus never arrive: let go of all.
+            controls.release_all();
+        }
+        _ => {}
+    }
+    None
+}
+
 struct App {
     options: WindowOptions,
     window: Option<Arc<Window>>,
@@ -503,35 +552,19 @@ impl ApplicationHandler for App {
     }
 
     fn window_event(&mut self, el: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
-        match event {
-            WindowEvent::CloseRequested => el.exit(),
-            WindowEvent::Resized(size) => {
-                if let Some(r) = &mut self.renderer {
-                    r.resize(size.width, size.height);
-                }
-            }
-            WindowEvent::KeyboardInput {
-                event:
-                    KeyEvent {
-                        physical_key: PhysicalKey::Code(code),
-                        state,
-                        repeat: false,
-                        ..
-                    },
-                ..
-            } => self.key(el, code, state == ElementState::Pressed),
-            WindowEvent::MouseWheel { delta, .. } => self.controls.wheel(wheel_lines(delta)),
-            WindowEvent::MouseInput {
-                state: ElementState::Pressed,
-                ..
-            } => self.grab_mouse(true),
-            WindowEvent::Focused(false) => {
-                self.grab_mouse(false);
-                // Keys released while the window had no focus never arrive: let go of all.
-                self.controls.release_all();
-            }
-            WindowEvent::RedrawRequested => self.redraw(el),
-            _ => {}
+        if event == WindowEvent::RedrawRequested {
+            return self.redraw(el);
+        }
+        let window = self.window.clone();
+        let key = handle_event(
+            el,
+            &event,
+            window.as_deref(),
+            self.renderer.as_mut(),
+            &mut self.controls,
+        );
+        if let Some((code, pressed)) = key {
+            self.key(el, code, pressed);
         }
     }
 

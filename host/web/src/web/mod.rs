@@ -313,14 +313,30 @@ impl App {
         online.keyboard().gamepad(pad);
         let (snapshot, screen, hud) = online.frame(now);
         let online_status = serde_json::to_value(online.status()).unwrap_or_default();
-        let Some(renderer) = self.renderer_ready() else {
+        let Some(mut status) = self.present(now, &snapshot, screen, &hud, None) else {
             with_shared(|s| s.status = serde_json::json!({ "online": online_status }).to_string());
             return;
         };
+        status["online"] = online_status;
+        with_shared(|s| s.status = status.to_string());
+    }
+
+    /// Draws the frame and asks for the next; the page's status line after it, or none
+    /// where the renderer is still opening or drawing failed (the game then stops).
+    fn present(
+        &mut self,
+        now: f64,
+        snapshot: &foosball_render::FrameSnapshot,
+        screen: foosball_render::Screen,
+        hud: &foosball_render::Hud,
+        last: Option<&crate::session::FrameOut>,
+    ) -> Option<serde_json::Value> {
+        let renderer = self.renderer_ready()?;
         let adapter = renderer.adapter().name.clone();
         let backend = renderer.adapter().backend.clone();
-        if let Err(e) = renderer.draw(&snapshot, screen, &hud, false) {
-            return self.fail(format!("space-foosball: drawing the frame: {e}"));
+        if let Err(e) = renderer.draw(snapshot, screen, hud, false) {
+            self.fail(format!("space-foosball: drawing the frame: {e}"));
+            return None;
         }
         self.frames += 1;
         self.frame_stats.frame(now * 1e3, now_s() * 1e3);
@@ -332,12 +348,11 @@ impl App {
             frame_stats: &self.frame_stats,
             audio: &self.audio,
         };
-        let mut status = crate::status::status(&mut self.session, None, page);
-        status["online"] = online_status;
-        with_shared(|s| s.status = status.to_string());
+        let status = crate::status::status(&mut self.session, last, page);
         if let Some(w) = &self.window {
             w.request_redraw();
         }
+        Some(status)
     }
 
     /// The renderer once it has opened (a failure to open ends the game); `None` while
@@ -419,28 +434,8 @@ impl App {
         while let Some(r) = self.session.take_out_report() {
             with_shared(|s| s.push_out(r.to_vec()));
         }
-        let Some(renderer) = self.renderer_ready() else {
-            return;
-        };
-        let adapter = renderer.adapter().name.clone();
-        let backend = renderer.adapter().backend.clone();
-        if let Err(e) = renderer.draw(&out.snapshot, out.screen, &out.hud, false) {
-            return self.fail(format!("space-foosball: drawing the frame: {e}"));
-        }
-        self.frames += 1;
-        self.frame_stats.frame(now * 1e3, now_s() * 1e3);
-        let page = crate::status::PageFigures {
-            frames: self.frames,
-            seconds: now - self.started,
-            adapter: &adapter,
-            backend: &backend,
-            frame_stats: &self.frame_stats,
-            audio: &self.audio,
-        };
-        let status = crate::status::status(&mut self.session, Some(&out), page);
-        with_shared(|s| s.status = status.to_string());
-        if let Some(w) = &self.window {
-            w.request_redraw();
+        if let Some(status) = self.present(now, &out.snapshot, out.screen, &out.hud, Some(&out)) {
+            with_shared(|s| s.status = status.to_string());
         }
     }
 }
