@@ -6,16 +6,15 @@
 //! the last screen until it is closed or Esc is pressed; its status is the last line on
 //! stdout.
 
-use crate::window::board::{self, BoardChoice};
+use crate::window::board::BoardChoice;
 use crate::window::controls::{map_key, Controls, Key};
 use crate::window::gamepad::Gamepads;
-use crate::window::{handle_event, open_window};
+use crate::window::{open_board, open_window, GameWindow, WindowParts, Windowed};
 use anyhow::{anyhow, Context, Result};
 use board_link::Board;
 use foosball_render::{PresentChoice, WindowRenderer};
 use foosball_sim::motion::live::LiveHandle;
 use foosball_sim::motion::RodPose as PaddlePose;
-use space_foosball::input::calibration::Calibration;
 use space_foosball::input::paddles::BoardInput;
 use space_foosball::side::Side;
 use space_foosball::Table;
@@ -25,11 +24,9 @@ use space_foosball_front::online::screen::{OnlineStatus, OnlineView};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
-use winit::application::ApplicationHandler;
-use winit::event::{DeviceEvent, DeviceId, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::KeyCode;
-use winit::window::{Window, WindowId};
+use winit::window::Window;
 
 /// Most reports taken from the board in one frame (a backlog after a stall).
 const REPORTS_PER_FRAME: usize = 1000;
@@ -87,20 +84,7 @@ pub fn run(
     options: OnlineWindow,
     keep: KeepMatch,
 ) -> Result<OnlineStatus> {
-    let opened = board::open(&options.board)?;
-    if let Some(n) = &opened.notice {
-        eprintln!("space-foosball: {n}");
-    }
-    let calibration = match &options.calibration_path {
-        Some(path) => {
-            let (c, warning) = Calibration::load_or_default(path);
-            if let Some(w) = warning {
-                eprintln!("space-foosball: calibration not used ({w}); using the defaults");
-            }
-            c
-        }
-        None => Calibration::default(),
-    };
+    let (opened, calibration) = open_board(&options.board, options.calibration_path.as_deref())?;
     let mut controls = Controls::new(&table);
     // The keyboard starts on Home's goalkeeper: Away's player switches team once.
     if side == Side::Away {
@@ -131,7 +115,7 @@ pub fn run(
     let event_loop = EventLoop::new().context("could not connect to the display")?;
     event_loop.set_control_flow(ControlFlow::Poll);
     event_loop
-        .run_app(&mut app)
+        .run_app(&mut Windowed(&mut app))
         .context("the window's event loop failed")?;
     if let Some(e) = app.error.take() {
         return Err(e);
@@ -145,6 +129,33 @@ impl App {
             self.error = Some(e);
         }
         el.exit();
+    }
+}
+
+impl GameWindow for App {
+    fn open(&mut self, el: &ActiveEventLoop) {
+        if self.window.is_some() {
+            return;
+        }
+        let opened = open_window(
+            el,
+            self.options.size,
+            self.options.fullscreen,
+            PresentChoice::Vsync,
+        );
+        match opened {
+            Ok((window, renderer)) => {
+                eprintln!(
+                    "space-foosball: drawing on {} ({})",
+                    renderer.adapter().name,
+                    renderer.adapter().backend
+                );
+                window.request_redraw();
+                self.window = Some(window);
+                self.renderer = Some(renderer);
+            }
+            Err(e) => self.fail(el, e),
+        }
     }
 
     fn redraw(&mut self, el: &ActiveEventLoop) {
@@ -213,60 +224,12 @@ impl App {
             }
         }
     }
-}
 
-impl ApplicationHandler for App {
-    fn resumed(&mut self, el: &ActiveEventLoop) {
-        if self.window.is_some() {
-            return;
-        }
-        let opened = open_window(
-            el,
-            self.options.size,
-            self.options.fullscreen,
-            PresentChoice::Vsync,
-        );
-        match opened {
-            Ok((window, renderer)) => {
-                eprintln!(
-                    "space-foosball: drawing on {} ({})",
-                    renderer.adapter().name,
-                    renderer.adapter().backend
-                );
-                window.request_redraw();
-                self.window = Some(window);
-                self.renderer = Some(renderer);
-            }
-            Err(e) => self.fail(el, e),
-        }
-    }
-
-    fn window_event(&mut self, el: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
-        if event == WindowEvent::RedrawRequested {
-            return self.redraw(el);
-        }
-        let window = self.window.clone();
-        let key = handle_event(
-            el,
-            &event,
-            window.as_deref(),
-            self.renderer.as_mut(),
-            &mut self.controls,
-        );
-        if let Some((code, pressed)) = key {
-            self.key(el, code, pressed);
-        }
-    }
-
-    fn device_event(&mut self, _el: &ActiveEventLoop, _id: DeviceId, event: DeviceEvent) {
-        if let DeviceEvent::MouseMotion { delta: (dx, dy) } = event {
-            self.controls.mouse_motion(dx, dy);
-        }
-    }
-
-    fn about_to_wait(&mut self, _el: &ActiveEventLoop) {
-        if let Some(w) = &self.window {
-            w.request_redraw();
+    fn parts(&mut self) -> WindowParts<'_> {
+        WindowParts {
+            window: self.window.clone(),
+            renderer: self.renderer.as_mut(),
+            controls: &mut self.controls,
         }
     }
 }

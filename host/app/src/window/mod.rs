@@ -84,7 +84,7 @@ pub fn run(options: WindowOptions) -> Result<()> {
     event_loop.set_control_flow(ControlFlow::Poll);
     let mut app = App::new(options)?;
     event_loop
-        .run_app(&mut app)
+        .run_app(&mut Windowed(&mut app))
         .context("the window's event loop failed")?;
     if let Some(e) = app.error.take() {
         return Err(e);
@@ -192,6 +192,91 @@ pub(crate) fn handle_event(
     None
 }
 
+/// Opens the board of `choice` and the calibration it is read through (the file at
+/// `calibration_path`, or the defaults where there is none or it cannot be used), saying
+/// on stderr what the player should know.
+pub(crate) fn open_board(
+    choice: &BoardChoice,
+    calibration_path: Option<&std::path::Path>,
+) -> Result<(board::Opened, Calibration)> {
+    let opened = board::open(choice)?;
+    if let Some(n) = &opened.notice {
+        eprintln!("space-foosball: {n}");
+    }
+    let calibration = match calibration_path {
+        Some(path) => {
+            let (c, warning) = Calibration::load_or_default(path);
+            if let Some(w) = warning {
+                eprintln!("space-foosball: calibration not used ({w}); using the defaults");
+            }
+            c
+        }
+        None => Calibration::default(),
+    };
+    Ok((opened, calibration))
+}
+
+/// What the one winit handler ([`Windowed`]) needs of a game window.
+pub(crate) struct WindowParts<'a> {
+    /// The window, once open.
+    pub window: Option<Arc<Window>>,
+    /// Its renderer, once open.
+    pub renderer: Option<&'a mut WindowRenderer>,
+    /// The emulated board's controls.
+    pub controls: &'a mut Controls,
+}
+
+/// A game window: `play`'s, or the online match's.
+pub(crate) trait GameWindow {
+    /// Opens the window and its renderer (once).
+    fn open(&mut self, el: &ActiveEventLoop);
+    /// Draws a frame.
+    fn redraw(&mut self, el: &ActiveEventLoop);
+    /// A key went down (`pressed`) or up.
+    fn key(&mut self, el: &ActiveEventLoop, code: KeyCode, pressed: bool);
+    /// Its window, renderer and controls.
+    fn parts(&mut self) -> WindowParts<'_>;
+}
+
+/// The winit handler of a game window: events to the controls and keys, a frame drawn
+/// whenever the loop waits.
+pub(crate) struct Windowed<'a, T: GameWindow>(pub &'a mut T);
+
+impl<T: GameWindow> ApplicationHandler for Windowed<'_, T> {
+    fn resumed(&mut self, el: &ActiveEventLoop) {
+        self.0.open(el);
+    }
+
+    fn window_event(&mut self, el: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        if event == WindowEvent::RedrawRequested {
+            return self.0.redraw(el);
+        }
+        let parts = self.0.parts();
+        let key = handle_event(
+            el,
+            &event,
+            parts.window.as_deref(),
+            parts.renderer,
+            parts.controls,
+        );
+        if let Some((code, pressed)) = key {
+            self.0.key(el, code, pressed);
+        }
+    }
+
+    fn device_event(&mut self, _el: &ActiveEventLoop, _id: DeviceId, event: DeviceEvent) {
+        if let DeviceEvent::MouseMotion { delta: (dx, dy) } = event {
+            self.0.parts().controls.mouse_motion(dx, dy);
+        }
+    }
+
+    fn about_to_wait(&mut self, _el: &ActiveEventLoop) {
+        if let Some(w) = self.0.parts().window {
+            w.request_redraw();
+        }
+    }
+}
+
 struct App {
     options: WindowOptions,
     window: Option<Arc<Window>>,
@@ -270,20 +355,8 @@ impl FrameStages {
 
 impl App {
     fn new(options: WindowOptions) -> Result<App> {
-        let opened = board::open(&options.board)?;
-        if let Some(n) = &opened.notice {
-            eprintln!("space-foosball: {n}");
-        }
-        let calibration = match &options.calibration_path {
-            Some(path) => {
-                let (c, warning) = Calibration::load_or_default(path);
-                if let Some(w) = warning {
-                    eprintln!("space-foosball: calibration not used ({w}); using the defaults");
-                }
-                c
-            }
-            None => Calibration::default(),
-        };
+        let (opened, calibration) =
+            open_board(&options.board, options.calibration_path.as_deref())?;
         let key_hints = if opened.live.is_some() {
             key_hints()
         } else {
@@ -400,37 +473,33 @@ impl App {
             grab_mouse(w, grab);
         }
     }
+}
 
-    fn key(&mut self, el: &ActiveEventLoop, code: KeyCode, pressed: bool) {
-        if pressed {
-            match code {
-                KeyCode::Escape => match self.session.escape() {
-                    Ok(true) => {
-                        el.exit();
-                        return;
-                    }
-                    Ok(false) => self.grab_mouse(false),
-                    Err(e) => return self.fail(el, e),
-                },
-                KeyCode::KeyC if self.session.stage() == Stage::Attract => {
-                    self.session.start_calibration();
-                }
-                KeyCode::Enter if self.session.user_paused() => {
-                    self.session.set_user_paused(false);
-                    return;
-                }
-                KeyCode::KeyT | KeyCode::KeyG if self.session.stage() == Stage::Calibration => {
-                    if let Some(rod) = self.session.calibration_rod() {
-                        let turns = if code == KeyCode::KeyT { 1.0 } else { -1.0 };
-                        self.controls.turn_paddle(rod, turns);
-                    }
-                }
-                _ => {}
-            }
+impl GameWindow for App {
+    fn open(&mut self, el: &ActiveEventLoop) {
+        if self.window.is_some() {
+            return;
         }
-        if let Some(k) = map_key(code) {
-            self.controls.key(k, pressed);
-        }
+        let opened = open_window(
+            el,
+            self.options.size,
+            self.options.fullscreen,
+            self.options.present,
+        );
+        let (window, r) = match opened {
+            Ok(o) => o,
+            Err(e) => return self.fail(el, e),
+        };
+        eprintln!(
+            "space-foosball: drawing on {} ({}), present mode {}, board: {}",
+            r.adapter().name,
+            r.adapter().backend,
+            r.present_mode(),
+            self.session.board_name()
+        );
+        self.renderer = Some(r);
+        window.request_redraw();
+        self.window = Some(window);
     }
 
     fn redraw(&mut self, el: &ActiveEventLoop) {
@@ -522,61 +591,44 @@ impl App {
             el.exit();
         }
     }
-}
 
-impl ApplicationHandler for App {
-    fn resumed(&mut self, el: &ActiveEventLoop) {
-        if self.window.is_some() {
-            return;
+    fn key(&mut self, el: &ActiveEventLoop, code: KeyCode, pressed: bool) {
+        if pressed {
+            match code {
+                KeyCode::Escape => match self.session.escape() {
+                    Ok(true) => {
+                        el.exit();
+                        return;
+                    }
+                    Ok(false) => self.grab_mouse(false),
+                    Err(e) => return self.fail(el, e),
+                },
+                KeyCode::KeyC if self.session.stage() == Stage::Attract => {
+                    self.session.start_calibration();
+                }
+                KeyCode::Enter if self.session.user_paused() => {
+                    self.session.set_user_paused(false);
+                    return;
+                }
+                KeyCode::KeyT | KeyCode::KeyG if self.session.stage() == Stage::Calibration => {
+                    if let Some(rod) = self.session.calibration_rod() {
+                        let turns = if code == KeyCode::KeyT { 1.0 } else { -1.0 };
+                        self.controls.turn_paddle(rod, turns);
+                    }
+                }
+                _ => {}
+            }
         }
-        let opened = open_window(
-            el,
-            self.options.size,
-            self.options.fullscreen,
-            self.options.present,
-        );
-        let (window, r) = match opened {
-            Ok(o) => o,
-            Err(e) => return self.fail(el, e),
-        };
-        eprintln!(
-            "space-foosball: drawing on {} ({}), present mode {}, board: {}",
-            r.adapter().name,
-            r.adapter().backend,
-            r.present_mode(),
-            self.session.board_name()
-        );
-        self.renderer = Some(r);
-        window.request_redraw();
-        self.window = Some(window);
-    }
-
-    fn window_event(&mut self, el: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
-        if event == WindowEvent::RedrawRequested {
-            return self.redraw(el);
-        }
-        let window = self.window.clone();
-        let key = handle_event(
-            el,
-            &event,
-            window.as_deref(),
-            self.renderer.as_mut(),
-            &mut self.controls,
-        );
-        if let Some((code, pressed)) = key {
-            self.key(el, code, pressed);
+        if let Some(k) = map_key(code) {
+            self.controls.key(k, pressed);
         }
     }
 
-    fn device_event(&mut self, _el: &ActiveEventLoop, _id: DeviceId, event: DeviceEvent) {
-        if let DeviceEvent::MouseMotion { delta: (dx, dy) } = event {
-            self.controls.mouse_motion(dx, dy);
-        }
-    }
-
-    fn about_to_wait(&mut self, _el: &ActiveEventLoop) {
-        if let Some(w) = &self.window {
-            w.request_redraw();
+    fn parts(&mut self) -> WindowParts<'_> {
+        WindowParts {
+            window: self.window.clone(),
+            renderer: self.renderer.as_mut(),
+            controls: &mut self.controls,
         }
     }
 }
