@@ -55,9 +55,8 @@ fn computer_against_computer_prints_events_and_ends_with_the_score() {
 
 #[test]
 fn a_scripted_board_plays_the_home_team() {
-    let dir = tempfile::tempdir().unwrap();
     // Every Home rod spins for the whole match (counting starts after 1 s).
-    let out = play_spinning_home(dir.path(), &[]);
+    let out = play_spinning_home(&[]);
     let events = lines(&out);
     assert_eq!(events.last().unwrap()["event"], "MatchOver");
     // The board's rods kicked the ball (rods 0, 1, 3, 5 are Home's).

@@ -24,7 +24,7 @@ fn history_json(db: &std::path::Path) -> Value {
 fn a_kept_match_s_replay_plays_it_again() {
     let dir = tempfile::tempdir().unwrap();
     let db = dir.path().join("history.sqlite3");
-    let played = play_spinning_home(dir.path(), &["--history", db.to_str().unwrap()]);
+    let played = play_spinning_home(&["--history", db.to_str().unwrap()]);
     let h = history_json(&db);
     let m = &h["matches"][0];
     assert_eq!(m["has_replay"], true);

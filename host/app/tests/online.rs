@@ -126,7 +126,7 @@ fn outcome(out: &std::process::Output, who: &str) -> Value {
 #[test]
 fn two_processes_play_one_match_through_a_late_lossy_relay() {
     let dir = tempfile::tempdir().unwrap();
-    let script = spinning_home_script(dir.path());
+    let script = spinning_home_script();
     let (port_h, port_j) = (free_port(), free_port());
     let host_addr: SocketAddr = format!("127.0.0.1:{port_h}").parse().unwrap();
     let join_addr: SocketAddr = format!("127.0.0.1:{port_j}").parse().unwrap();

@@ -159,7 +159,7 @@ fn replay_reproduces_the_recorded_match_events() {
     let rec = dir.path().join("match.json");
     // Home played through the emulated board by a script (every Home rod spinning),
     // so the recorded input decides the match.
-    let played = play_spinning_home(dir.path(), &["--record", rec.to_str().unwrap()]);
+    let played = play_spinning_home(&["--record", rec.to_str().unwrap()]);
     let replayed = run_ok(&["replay", rec.to_str().unwrap(), "--home", "player"]);
     // Event for event, bit for bit (JSON keeps every digit).
     let (a, b) = (

@@ -469,14 +469,9 @@ fn an_online_match_plays_in_the_window_against_a_headless_side() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    // Home's rods held for 1 s, then spun (the headless side's script).
-    let script = dir.path().join("spin.json");
-    std::fs::write(
-        &script,
-        r#"{"rods":[{"rod":1,"segments":[{"hold":{"duration_s":1.0}},
-            {"velocity":{"duration_s":600,"angle_rad_per_s":-12.0}}]}]}"#,
-    )
-    .unwrap();
+    // Home's rods held for 1 s, then spun (the tests' committed motion script).
+    let script =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../sim/scripts/spin-home.json");
     let (port_h, port_j) = (free_udp_port(), free_udp_port());
     let frames = "240";
     let host = Command::new(BIN)

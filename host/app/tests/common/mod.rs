@@ -16,22 +16,11 @@ pub fn run(args: &[&str]) -> Output {
         .expect("run space-foosball")
 }
 
-/// Writes a motion script in `dir` in which every Home rod (ports 0, 1, 3, 5) holds for 1 s,
-/// then spins at −12 rad/s for the rest of the match; returns its path.
+/// The committed motion script in which every Home rod (ports 0, 1, 3, 5) holds for 1 s,
+/// then spins at −12 rad/s for the rest of the match (`sim/scripts/spin-home.json`).
 #[allow(dead_code)] // used by some of the test binaries that include this module
-pub fn spinning_home_script(dir: &std::path::Path) -> std::path::PathBuf {
-    let script = dir.join("spin.json");
-    let tracks: Vec<String> = [0, 1, 3, 5]
-        .iter()
-        .map(|port| {
-            format!(
-                r#"{{"rod":{port},"segments":[{{"hold":{{"duration_s":1.0}}}},
-                {{"velocity":{{"duration_s":600,"angle_rad_per_s":-12.0}}}}]}}"#
-            )
-        })
-        .collect();
-    std::fs::write(&script, format!(r#"{{"rods":[{}]}}"#, tracks.join(","))).unwrap();
-    script
+pub fn spinning_home_script() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../sim/scripts/spin-home.json")
 }
 
 /// Runs `space-foosball ARGS` as [`run`] does and fails the test, with its stderr, unless
@@ -48,10 +37,10 @@ pub fn run_ok(args: &[&str]) -> Output {
 }
 
 /// Plays a one-goal headless match (seed 2) in which Home plays through the emulated board
-/// from [`spinning_home_script`] (written in `dir`), with `extra` arguments; its output.
+/// from [`spinning_home_script`], with `extra` arguments; its output.
 #[allow(dead_code)] // used by some of the test binaries that include this module
-pub fn play_spinning_home(dir: &std::path::Path, extra: &[&str]) -> Output {
-    let script = spinning_home_script(dir);
+pub fn play_spinning_home(extra: &[&str]) -> Output {
+    let script = spinning_home_script();
     let mut args = vec![
         "play",
         "--headless",

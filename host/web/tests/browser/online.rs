@@ -12,7 +12,7 @@ use super::open_with;
 use serde_json::Value;
 use std::io::Read;
 use std::net::{TcpListener, TcpStream};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -69,23 +69,6 @@ fn signalling_server() -> (Killed, String) {
     (Killed(child), format!("ws://127.0.0.1:{port}"))
 }
 
-/// Home's rods 0, 1, 3 and 5 held for 1 s, then spun at 12 rad/s (`foosball-sim`'s motion
-/// script format).
-fn spinning_script(dir: &std::path::Path) -> PathBuf {
-    let tracks: Vec<String> = [0, 1, 3, 5]
-        .iter()
-        .map(|port| {
-            format!(
-                r#"{{"rod":{port},"segments":[{{"hold":{{"duration_s":1.0}}}},
-                {{"velocity":{{"duration_s":600,"angle_rad_per_s":-12.0}}}}]}}"#
-            )
-        })
-        .collect();
-    let path = dir.join("spin.json");
-    std::fs::write(&path, format!(r#"{{"rods":[{}]}}"#, tracks.join(","))).unwrap();
-    path
-}
-
 #[test]
 #[ignore = "needs the wasm bundle, Chromium, matchbox_server and a desktop build: run by the web step of scripts/test-all"]
 fn the_page_plays_a_desktop_through_the_signalling_server_and_times_its_rollbacks() {
@@ -100,7 +83,8 @@ fn the_page_plays_a_desktop_through_the_signalling_server_and_times_its_rollback
     let desktop = Command::new(&bin)
         .args(["host", "--room", room, "--signal", &signal])
         .args(["--seed", seed, "--max-frames", frames, "--script"])
-        .arg(spinning_script(dir.path()))
+        // Home's rods held for 1 s, then spun (the tests' committed motion script).
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../sim/scripts/spin-home.json"))
         .arg("--record")
         .arg(&recording)
         .stdout(Stdio::piped())
