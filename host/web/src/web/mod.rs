@@ -83,22 +83,15 @@ pub fn start() {
     }
 }
 
-/// A whole-number URL parameter in `range`, or `default` where the page has none.
-fn number_param(
-    name: &str,
-    default: u64,
-    range: std::ops::RangeInclusive<u64>,
-) -> anyhow::Result<u64> {
+/// A whole-number URL parameter in `range`, if the page has it.
+fn number_param(name: &str, range: std::ops::RangeInclusive<u64>) -> anyhow::Result<Option<u64>> {
     let Some(text) = url_param(name) else {
-        return Ok(default);
+        return Ok(None);
     };
     match text.parse::<u64>() {
-        Ok(n) if range.contains(&n) => Ok(n),
-        _ => anyhow::bail!(
-            "{name}={text:?} is not a whole number in {}–{}",
-            range.start(),
-            range.end()
-        ),
+        Ok(n) if range.contains(&n) => Ok(Some(n)),
+        Ok(_) => anyhow::bail!("{name}={text} is not in {}–{}", range.start(), range.end()),
+        Err(_) => anyhow::bail!("{name}={text:?} is not a whole number"),
     }
 }
 
@@ -114,12 +107,9 @@ fn online_from_url(seed: u64) -> anyhow::Result<Option<OnlinePage>> {
         Some("home") => Side::Home,
         Some(other) => anyhow::bail!("side={other:?}: give home or away"),
     };
-    let goals = number_param("goals", 5, 1..=99)?;
-    let max_frames = match url_param("frames") {
-        Some(_) => Some(number_param("frames", 0, 1..=u64::from(u32::MAX))?),
-        None => None,
-    };
-    let delay = number_param("delay", 2, 0..=8)?;
+    let goals = number_param("goals", 1..=99)?.unwrap_or(5);
+    let max_frames = number_param("frames", 1..=u64::from(u32::MAX))?;
+    let delay = number_param("delay", 0..=8)?.unwrap_or(2);
     let url = room_url(&signal, &name)?;
     let (room, carried) = Room::open(&url);
     wasm_bindgen_futures::spawn_local(async move {
@@ -143,7 +133,7 @@ fn online_from_url(seed: u64) -> anyhow::Result<Option<OnlinePage>> {
 }
 
 fn run() -> anyhow::Result<()> {
-    let seed = number_param("seed", 1, 0..=u64::MAX)?;
+    let seed = number_param("seed", 0..=u64::MAX)?.unwrap_or(1);
     let online = online_from_url(seed)?;
     let script: Script = match url_param("script") {
         Some(s) => s.parse().map_err(|e| anyhow::anyhow!("script: {e}"))?,
