@@ -1,8 +1,8 @@
 //! Broad phase: a uniform grid hashed by cell, rebuilt each step without allocating (the
 //! buffers keep their capacity). Half-spaces and bodies whose box covers too many cells are
 //! tested against every other body instead. A world of at most [`ALL_PAIRS_BODIES`] bodies
-//! (a foosball table: 36) tests every pair directly, which costs less than hashing and
-//! sorting the grid's cells.
+//! (a foosball table: 36) sweeps its boxes along x instead and tests the pairs that overlap
+//! along x, which costs less than hashing and sorting the grid's cells.
 //!
 //! Each candidate pair is reported once: only in the cell holding the lower corner of the two
 //! boxes' intersection. Output: sorted pair keys `a << 32 | b`, `a < b`.
@@ -15,8 +15,8 @@
 
 use super::{Aabb, CollisionBodies, Shape};
 
-/// Worlds of at most this many bodies test all pairs: 2 016 box tests of a few ns each,
-/// against the grid's hashing and sorting of every cell a body covers (a foosball table's
+/// Worlds of at most this many bodies sweep along x: at most 2 016 box tests of a few ns
+/// each, against the grid's hashing and sorting of every cell a body covers (a foosball table's
 /// rods span the field and cover some 40 cells each).
 pub(crate) const ALL_PAIRS_BODIES: usize = 64;
 
@@ -44,6 +44,8 @@ pub struct BroadPhase {
     grown_responds: Vec<bool>,
     grown_excluded: Vec<u64>,
     grown_pairs: Vec<u64>,
+    /// The bodies in order of their boxes' lower x at the last update of a small world.
+    sweep_order: Vec<u32>,
     /// The most pairs of grown boxes a grid build gathers before it stops ([`Self::overflowed`]);
     /// the world sets it from its bodies (`MAX_CONTACT_PAIRS_PER_BODY`).
     pub(crate) max_pairs: usize,
@@ -131,6 +133,7 @@ impl BroadPhase {
             grown_responds: Vec::new(),
             grown_excluded: Vec::new(),
             grown_pairs: Vec::new(),
+            sweep_order: Vec::new(),
             max_pairs: usize::MAX,
             overflowed: false,
         }
@@ -281,20 +284,46 @@ impl BroadPhase {
         tests
     }
 
-    /// Every pair tested directly; keys come out in order.
+    /// Every pair whose boxes overlap along x, found by sweeping the boxes in order of
+    /// their lower x (the order of the last update, re-sorted: nearly sorted already, so the
+    /// insertion sort is linear); keys come out in order. The pairs are those of testing
+    /// every pair: a pair apart along x cannot overlap, and a half-space's box spans x.
     fn all_pairs(&mut self, bodies: &CollisionBodies<'_>, excluded: &[u64]) -> usize {
+        let boxes = bodies.aabb;
+        let n = bodies.len();
+        if self.sweep_order.len() != n {
+            self.sweep_order.clear();
+            self.sweep_order.extend(0..n as u32);
+        }
+        let order = &mut self.sweep_order;
+        let lower_x = |i: u32| boxes[i as usize].min.x;
+        for k in 1..n {
+            let mut j = k;
+            while j > 0 && lower_x(order[j - 1]).total_cmp(&lower_x(order[j])).is_gt() {
+                order.swap(j - 1, j);
+                j -= 1;
+            }
+        }
         let mut tests = 0;
-        for a in 0..bodies.len() {
-            for b in a + 1..bodies.len() {
+        for (k, &a) in order.iter().enumerate() {
+            let a = a as usize;
+            let upper_x = boxes[a].max.x;
+            for &b in &order[k + 1..] {
+                let b = b as usize;
+                // NaN compares false: a box that is not finite is swept past, never met.
+                if boxes[b].min.x > upper_x {
+                    break;
+                }
                 if !Self::wanted(bodies, a, b) {
                     continue;
                 }
                 tests += 1;
-                if boxes_meet(bodies, bodies.aabb, a, b) {
+                if boxes_meet(bodies, boxes, a, b) {
                     push_pair(&mut self.pairs, a, b, excluded);
                 }
             }
         }
+        self.pairs.sort_unstable();
         tests
     }
 
@@ -344,6 +373,88 @@ fn half_space_overlaps(bodies: &CollisionBodies<'_>, h: usize, b: &Aabb) -> bool
 mod tests {
     use super::*;
 
+    /// The pairs that testing every pair finds, sorted.
+    fn every_pair(bodies: &CollisionBodies<'_>, excluded: &[u64]) -> Vec<u64> {
+        let mut pairs = Vec::new();
+        for a in 0..bodies.len() {
+            for b in a + 1..bodies.len() {
+                if BroadPhase::wanted(bodies, a, b) && boxes_meet(bodies, bodies.aabb, a, b) {
+                    push_pair(&mut pairs, a, b, excluded);
+                }
+            }
+        }
+        pairs
+    }
+
+    /// A small world's sweep along x finds exactly the pairs that testing every pair finds,
+    /// step after step with every box placed anew (the order kept from the last step is out
+    /// of date), with half-spaces along and across x, fixed and sleeping bodies, an
+    /// excluded pair and a box that is not finite.
+    #[test]
+    fn the_sweep_finds_the_pairs_that_testing_every_pair_finds() {
+        let n = ALL_PAIRS_BODIES;
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut shape = vec![
+            Shape::HalfSpace { normal: V3::z() },
+            Shape::HalfSpace { normal: V3::x() },
+        ];
+        shape.extend((2..n).map(|_| Shape::Cuboid {
+            half: V3::repeat(0.05),
+        }));
+        let rot = vec![crate::geometry::M3::identity(); n];
+        let mut pos = vec![V3::zeros(); n];
+        pos[1] = V3::new(0.6, 0.0, 0.0);
+        let awake: Vec<bool> = (0..n).map(|i| i > 1 && i % 5 != 0).collect();
+        let responds: Vec<bool> = (0..n).map(|i| i % 7 != 3).collect();
+        let excluded = [(5u64 << 32) | 9];
+        let mut sweep = BroadPhase::new(&shape);
+        let mut found = 0;
+        for step in 0..40 {
+            let mut aabbs: Vec<Aabb> = (0..n)
+                .map(|i| match shape[i] {
+                    Shape::HalfSpace { .. } => shape[i].aabb(&rot[i], &pos[i]),
+                    _ => {
+                        let c = V3::new(next(), next() * 0.3, next() * 0.3 - 0.1);
+                        let half = V3::repeat(0.01 + 0.1 * next());
+                        Aabb {
+                            min: c - half,
+                            max: c + half,
+                        }
+                    }
+                })
+                .collect();
+            if step % 4 == 3 {
+                aabbs[n - 1] = Aabb {
+                    min: V3::repeat(f64::NAN),
+                    max: V3::repeat(f64::NAN),
+                };
+            }
+            let bodies = CollisionBodies {
+                shape: &shape,
+                rot: &rot,
+                pos: &pos,
+                aabb: &aabbs,
+                awake: &awake,
+                responds: &responds,
+                travel: &[],
+            };
+            sweep.update(&bodies, &excluded, true);
+            let every = every_pair(&bodies, &excluded);
+            assert_eq!(sweep.pairs, every, "step {step}");
+            found += every.len();
+        }
+        assert!(
+            found > 40 * n,
+            "the world is crowded enough to test: {found} pairs"
+        );
+    }
+
     /// The grid finds exactly the overlapping pairs that testing every pair finds, on a
     /// scattered world too large for the all-pairs path (boxes of mixed sizes, a ground
     /// half-space, some bodies static or asleep).
@@ -387,10 +498,9 @@ mod tests {
         let excluded = [(3u64 << 32) | 4];
         let mut grid = BroadPhase::new(&shape);
         grid.update(&bodies, &excluded, true);
-        let mut every = BroadPhase::new(&shape);
-        every.all_pairs(&bodies, &excluded);
-        assert!(every.pairs.len() > n, "the world is crowded enough to test");
-        assert_eq!(grid.pairs, every.pairs);
+        let every = every_pair(&bodies, &excluded);
+        assert!(every.len() > n, "the world is crowded enough to test");
+        assert_eq!(grid.pairs, every);
     }
 
     /// Bodies that move within their grown boxes reuse the grid's pairs, which are then
@@ -435,9 +545,7 @@ mod tests {
             let before = grid.grown.clone();
             grid.update(&bodies, &[], true);
             assert_eq!(grid.grown != before, built, "built the grid again");
-            let mut every = BroadPhase::new(&shape);
-            every.all_pairs(&bodies, &[]);
-            assert_eq!(grid.pairs, every.pairs);
+            assert_eq!(grid.pairs, every_pair(&bodies, &[]));
         };
         check(&place(&|_| 0.0), true);
         // Every odd box 2 cm to the right: within the grown boxes; boxes 2 and 3 and the like
