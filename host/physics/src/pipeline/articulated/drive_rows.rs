@@ -27,22 +27,26 @@ impl ArticulatedSystem {
     /// under a shaken anchor blew up within 1.5 s with once-a-step responses).
     pub(crate) fn refresh_drive_responses(&mut self) -> Result<(), DynamicsError> {
         let nv = self.qd.len();
+        // The drives and one unit vector, taken out and put back: no allocation once warm.
         let mut drives = std::mem::take(&mut self.drives);
-        let mut e = vec![0.0; nv];
+        let mut e = std::mem::take(&mut self.unit_impulse);
+        e.clear();
+        e.resize(nv, 0.0);
+        let mut result = Ok(());
         for d in &mut drives {
             d.response.resize(nv, 0.0);
             e.iter_mut().for_each(|x| *x = 0.0);
             if d.dof < nv {
                 e[d.dof] = 1.0;
             }
-            let r = self.apply_inverse_mass(&e, &mut d.response);
-            if r.is_err() {
-                self.drives = drives;
-                return r;
+            result = self.apply_inverse_mass(&e, &mut d.response);
+            if result.is_err() {
+                break;
             }
         }
         self.drives = drives;
-        Ok(())
+        self.unit_impulse = e;
+        result
     }
 
     /// The velocity the motors give the tree within one substep `h` if nothing stops them,
