@@ -48,6 +48,12 @@ pub(crate) trait Connector: Send {
     fn describe(&self) -> String;
     /// Tries once to open a connection.
     fn connect(&mut self) -> Result<Self::Transport, BoardError>;
+    /// Whether a board has arrived since the last call (a hot-plug event, where the
+    /// platform reports them): a disconnected link then tries at once, whatever its retry
+    /// interval. Without events, `false`: the link looks again once per retry interval.
+    fn arrived(&mut self) -> bool {
+        false
+    }
 }
 
 /// Time source, injectable for tests.
@@ -218,7 +224,8 @@ impl<C: Connector, K: Clock> Link<C, K> {
                 None => Duration::MAX,
             };
             let Some(transport) = self.transport.as_mut() else {
-                let due = self.next_attempt().is_none_or(|at| now >= at);
+                let due =
+                    self.connector.arrived() || self.next_attempt().is_none_or(|at| now >= at);
                 if due && self.try_connect() {
                     continue;
                 }
@@ -308,6 +315,8 @@ mod tests {
         sent: Vec<Vec<u8>>,
         /// `send` reports the peer gone.
         send_gone: bool,
+        /// Hot-plug arrivals not yet taken by the link.
+        arrivals: usize,
     }
 
     #[derive(Clone)]
@@ -357,6 +366,12 @@ mod tests {
                 }),
                 None => Err(BoardError::NotFound { vid: 1, pid: 2 }),
             }
+        }
+        fn arrived(&mut self) -> bool {
+            let mut shared = self.shared.lock().unwrap();
+            let arrived = shared.arrivals > 0;
+            shared.arrivals = 0;
+            arrived
         }
     }
 
@@ -440,6 +455,36 @@ mod tests {
         assert_eq!((stats.received, stats.lost, stats.reconnects), (3, 0, 1));
         assert_eq!(sequence(link.poll_report(Duration::ZERO)), 502);
         assert_eq!(link.stats().lost, 1);
+    }
+
+    /// A hot-plug arrival makes the next poll look at once, inside the retry interval; only
+    /// one look per arrival, and the rate limit holds again after it.
+    #[test]
+    fn a_hot_plug_arrival_is_looked_at_at_once() {
+        let (mut link, shared, clock) = link(vec![]);
+        let attempts = |shared: &Arc<Mutex<Shared>>| shared.lock().unwrap().attempts.len();
+        assert!(link.poll_report(Duration::ZERO).is_err());
+        assert_eq!(attempts(&shared), 1);
+        clock.advance(Duration::from_millis(10));
+        assert!(link.poll_report(Duration::ZERO).is_err());
+        assert_eq!(attempts(&shared), 1, "rescanned with no arrival");
+        // Something with the board's ids arrives, but cannot be opened yet.
+        shared.lock().unwrap().arrivals = 1;
+        assert!(link.poll_report(Duration::ZERO).is_err());
+        assert_eq!(attempts(&shared), 2, "did not look at the arrival");
+        assert!(link.poll_report(Duration::ZERO).is_err());
+        assert_eq!(attempts(&shared), 2, "looked twice for one arrival");
+        // The board arrives: connected on the next poll, 20 ms into the retry interval.
+        clock.advance(Duration::from_millis(10));
+        shared
+            .lock()
+            .unwrap()
+            .scripts
+            .push_back(VecDeque::from([report(7)]));
+        shared.lock().unwrap().arrivals = 1;
+        assert_eq!(sequence(link.poll_report(Duration::ZERO)), 7);
+        assert_eq!(link.state(), LinkState::Connected);
+        assert_eq!(attempts(&shared), 3);
     }
 
     #[test]

@@ -6,7 +6,8 @@
 //! transfers on a board without an OUT endpoint). The rusb-independent logic (which
 //! interface and endpoints to use, which device to open, which errors mean "unplugged")
 //! is in plain functions tested without hardware; the reconnect state machine is shared
-//! with the socket board ([`crate::link`]).
+//! with the socket board ([`crate::link`]). Where libusb has hot-plug events, an arrival
+//! of a device with the board's ids makes the next poll look at once.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -54,7 +55,9 @@ const HID_FEATURE_REPORT_NO_ID: u16 = 0x0300;
 /// board is released) and claims the interface; the interrupt endpoints are taken from
 /// the configuration descriptor. When the board is unplugged (libusb `NoDevice`, `Io` or
 /// `Pipe`) the poll reports [`BoardError::Disconnected`], and later polls rescan the bus,
-/// at most once per retry interval ([`DEFAULT_RETRY_INTERVAL`]), until it is back.
+/// at most once per retry interval ([`DEFAULT_RETRY_INTERVAL`]), until it is back; where
+/// libusb reports hot-plug events, a device with the ids that arrives is looked at on the
+/// next poll, inside the interval.
 ///
 /// Without root, opening needs the udev rule `udev/70-space-foosball.rules` of this
 /// crate ([`BoardError::AccessDenied`] otherwise).
@@ -98,6 +101,7 @@ impl UsbBoard {
                     pid,
                     serial: None,
                     context: None,
+                    hotplug: None,
                 },
                 SystemClock,
                 DEFAULT_RETRY_INTERVAL,
@@ -402,6 +406,107 @@ struct UsbConnector {
     serial: Option<String>,
     /// Made on the first scan and kept; libusb tracks hot-plugged devices in it.
     context: Option<Context>,
+    /// Arrivals of boards with these ids, where libusb reports hot-plug events.
+    hotplug: Option<HotplugWatch>,
+}
+
+/// Hot-plug arrivals of devices with one vendor and product id: a libusb callback sets a
+/// flag, and while the link looks for a board a thread handles the context's events, so
+/// that the callback runs with no transfer pending. While a board is open the thread
+/// rests: the reader thread's transfers are then the only ones handling events (no
+/// second thread between a report and the game). Stopped and joined when dropped.
+struct HotplugWatch {
+    arrived: Arc<AtomicBool>,
+    /// Whether the link is looking for a board (set by each look, cleared on connecting).
+    looking: Arc<AtomicBool>,
+    stop: Arc<AtomicBool>,
+    context: Context,
+    thread: Option<JoinHandle<()>>,
+    /// Deregisters the callback when dropped (after the thread has ended).
+    _registration: rusb::Registration<Context>,
+}
+
+/// The callback: notes that a device arrived.
+struct ArrivalFlag(Arc<AtomicBool>);
+
+impl rusb::Hotplug<Context> for ArrivalFlag {
+    fn device_arrived(&mut self, _device: rusb::Device<Context>) {
+        self.0.store(true, Ordering::Release);
+    }
+    fn device_left(&mut self, _device: rusb::Device<Context>) {}
+}
+
+/// How long the hot-plug thread waits for events before it checks for stop.
+const HOTPLUG_EVENT_WAIT: Duration = Duration::from_millis(200);
+
+impl HotplugWatch {
+    /// Watches `context` for arrivals of `vid:pid`; `None` where libusb has no hot-plug
+    /// events (Windows) or they cannot be registered: the link then polls.
+    fn start(context: &Context, vid: u16, pid: u16) -> Option<Self> {
+        if !rusb::has_hotplug() {
+            return None;
+        }
+        let arrived = Arc::new(AtomicBool::new(false));
+        let registration = rusb::HotplugBuilder::new()
+            .vendor_id(vid)
+            .product_id(pid)
+            .enumerate(false)
+            .register(context, Box::new(ArrivalFlag(Arc::clone(&arrived))))
+            .ok()?;
+        let stop = Arc::new(AtomicBool::new(false));
+        let looking = Arc::new(AtomicBool::new(true));
+        let thread = {
+            let (context, stop, looking) =
+                (context.clone(), Arc::clone(&stop), Arc::clone(&looking));
+            std::thread::Builder::new()
+                .name("usb-hotplug".into())
+                .spawn(move || {
+                    while !stop.load(Ordering::Acquire) {
+                        let handled = looking.load(Ordering::Acquire)
+                            && context.handle_events(Some(HOTPLUG_EVENT_WAIT)).is_ok();
+                        if !handled {
+                            std::thread::park_timeout(HOTPLUG_EVENT_WAIT);
+                        }
+                    }
+                })
+                .ok()?
+        };
+        Some(Self {
+            arrived,
+            looking,
+            stop,
+            context: context.clone(),
+            thread: Some(thread),
+            _registration: registration,
+        })
+    }
+
+    /// Whether a device arrived since the last call; the link is looking for a board.
+    fn take_arrival(&self) -> bool {
+        if !self.looking.swap(true, Ordering::AcqRel) {
+            if let Some(thread) = &self.thread {
+                thread.thread().unpark();
+            }
+        }
+        self.arrived.swap(false, Ordering::AcqRel)
+    }
+
+    /// A board is open: the thread leaves the context's events to the reader and rests.
+    fn found(&self) {
+        self.looking.store(false, Ordering::Release);
+        self.context.interrupt_handle_events();
+    }
+}
+
+impl Drop for HotplugWatch {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Release);
+        self.context.interrupt_handle_events();
+        if let Some(thread) = self.thread.take() {
+            thread.thread().unpark();
+            let _ = thread.join();
+        }
+    }
 }
 
 impl UsbConnector {
@@ -420,6 +525,7 @@ impl UsbConnector {
                 }
             }
         })?;
+        self.hotplug = HotplugWatch::start(&context, self.vid, self.pid);
         self.context = Some(context.clone());
         Ok(context)
     }
@@ -448,7 +554,7 @@ impl Connector for UsbConnector {
             let descriptor = device.device_descriptor().ok()?;
             Some((descriptor.vendor_id(), descriptor.product_id(), device))
         });
-        match &self.serial {
+        let opened = match &self.serial {
             Some(wanted) => open_by_serial(
                 candidates,
                 vid,
@@ -460,7 +566,17 @@ impl Connector for UsbConnector {
             None => open_first_match(candidates, vid, pid, |device| {
                 UsbTransport::open(&device, vid, pid)
             }),
+        };
+        if let (Ok(_), Some(watch)) = (&opened, &self.hotplug) {
+            watch.found();
         }
+        opened
+    }
+
+    fn arrived(&mut self) -> bool {
+        self.hotplug
+            .as_ref()
+            .is_some_and(HotplugWatch::take_arrival)
     }
 }
 
@@ -917,5 +1033,31 @@ mod tests {
                 "{transient}"
             );
         }
+    }
+
+    /// Where libusb has a USB stack and hot-plug events, a watch registers, reports no
+    /// arrival before one, rests once a board is found and looks again with the link, and
+    /// its thread ends when the watch is dropped. Elsewhere no watch starts and the link
+    /// polls (nothing to check).
+    #[test]
+    fn a_hot_plug_watch_starts_rests_and_stops() {
+        let Ok(context) = Context::new() else {
+            return;
+        };
+        let Some(watch) = HotplugWatch::start(&context, VENDOR_ID, PRODUCT_ID) else {
+            return;
+        };
+        assert!(watch.looking.load(Ordering::Acquire));
+        assert!(!watch.take_arrival(), "an arrival before any");
+        watch.found();
+        assert!(!watch.looking.load(Ordering::Acquire));
+        assert!(!watch.take_arrival());
+        assert!(
+            watch.looking.load(Ordering::Acquire),
+            "not looking with the link"
+        );
+        let thread = watch.thread.as_ref().map(|t| t.thread().id());
+        assert!(thread.is_some());
+        drop(watch);
     }
 }
