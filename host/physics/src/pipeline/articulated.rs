@@ -557,13 +557,21 @@ impl ArticulatedSystem {
     /// World angular velocity and world velocity of each link frame's origin (rad/s, m/s) at
     /// the current `q`, `q̇`, for the given link `poses`.
     pub(crate) fn link_velocities(&self, poses: &[SE3<f64>]) -> Vec<(V3, V3)> {
-        self.link_velocities_at(poses, &self.qd)
+        let mut out: Vec<(V3, V3)> = Vec::with_capacity(poses.len());
+        self.link_velocities_into(poses, &self.qd, &mut out);
+        out
     }
 
     /// [`link_velocities`](Self::link_velocities) for the generalised velocity `qd` instead of
-    /// the tree's own.
-    pub(crate) fn link_velocities_at(&self, poses: &[SE3<f64>], qd: &[f64]) -> Vec<(V3, V3)> {
-        let mut out: Vec<(V3, V3)> = Vec::with_capacity(poses.len());
+    /// the tree's own, written into `out` (cleared first; no allocation once it holds a
+    /// velocity per link).
+    pub(crate) fn link_velocities_into(
+        &self,
+        poses: &[SE3<f64>],
+        qd: &[f64],
+        out: &mut Vec<(V3, V3)>,
+    ) {
+        out.clear();
         let mut s = [se3::zeros(); 6];
         for (k, b) in self.tree.bodies().iter().enumerate() {
             let (mut w, mut v) = match b.parent {
@@ -583,7 +591,6 @@ impl ArticulatedSystem {
             }
             out.push((w, v));
         }
-        out
     }
 
     /// The world velocity of the point of link `link` at world point `p` per velocity

@@ -124,13 +124,18 @@ impl World {
         if self.proxies.is_empty() {
             return;
         }
+        // The link poses go straight into the step's kept ones; one velocity buffer serves
+        // every tree.
+        let mut vel = Vec::new();
         for (t, sys) in self.articulated.iter().enumerate() {
             if sys.has_shapes() {
-                let poses = sys.link_poses();
-                let vel = match self.predicted_qd.get(t) {
-                    Some(qd) if predicted && !qd.is_empty() => sys.link_velocities_at(&poses, qd),
-                    _ => sys.link_velocities(&poses),
+                let poses = &mut self.link_poses[t];
+                sys.model().body_poses_into(sys.q(), poses);
+                let qd = match self.predicted_qd.get(t) {
+                    Some(qd) if predicted && !qd.is_empty() => qd,
+                    _ => sys.qd(),
                 };
+                sys.link_velocities_into(poses, qd, &mut vel);
                 for (i, p) in self.proxies.iter().enumerate() {
                     if let Some(p) = p.filter(|p| p.tree == t) {
                         self.bodies.pos[i] = poses[p.link].p;
@@ -139,7 +144,6 @@ impl World {
                         self.bodies.vel[i] = vel[p.link].1;
                     }
                 }
-                self.link_poses[t] = poses;
             }
         }
     }
