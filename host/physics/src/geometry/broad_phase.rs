@@ -373,6 +373,50 @@ fn half_space_overlaps(bodies: &CollisionBodies<'_>, h: usize, b: &Aabb) -> bool
 mod tests {
     use super::*;
 
+    /// A test world's bodies, all but their boxes: unturned, at the origin unless placed.
+    struct TestBodies {
+        shape: Vec<Shape>,
+        rot: Vec<crate::geometry::M3>,
+        pos: Vec<V3>,
+        awake: Vec<bool>,
+        responds: Vec<bool>,
+    }
+
+    impl TestBodies {
+        fn new(shape: Vec<Shape>, awake: Vec<bool>, responds: Vec<bool>) -> Self {
+            let n = shape.len();
+            Self {
+                shape,
+                rot: vec![crate::geometry::M3::identity(); n],
+                pos: vec![V3::zeros(); n],
+                awake,
+                responds,
+            }
+        }
+
+        fn view<'a>(&'a self, aabb: &'a [Aabb]) -> CollisionBodies<'a> {
+            CollisionBodies {
+                shape: &self.shape,
+                rot: &self.rot,
+                pos: &self.pos,
+                aabb,
+                awake: &self.awake,
+                responds: &self.responds,
+                travel: &[],
+            }
+        }
+    }
+
+    /// Uniform numbers in [0, 1) from a xorshift generator.
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
     /// The pairs that testing every pair finds, sorted.
     fn every_pair(bodies: &CollisionBodies<'_>, excluded: &[u64]) -> Vec<u64> {
         let mut pairs = Vec::new();
@@ -393,13 +437,7 @@ mod tests {
     #[test]
     fn the_sweep_finds_the_pairs_that_testing_every_pair_finds() {
         let n = ALL_PAIRS_BODIES;
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(0x2545_f491_4f6c_dd1d);
         let mut shape = vec![
             Shape::HalfSpace { normal: V3::z() },
             Shape::HalfSpace { normal: V3::x() },
@@ -407,18 +445,19 @@ mod tests {
         shape.extend((2..n).map(|_| Shape::Cuboid {
             half: V3::repeat(0.05),
         }));
-        let rot = vec![crate::geometry::M3::identity(); n];
-        let mut pos = vec![V3::zeros(); n];
-        pos[1] = V3::new(0.6, 0.0, 0.0);
-        let awake: Vec<bool> = (0..n).map(|i| i > 1 && i % 5 != 0).collect();
-        let responds: Vec<bool> = (0..n).map(|i| i % 7 != 3).collect();
+        let mut world = TestBodies::new(
+            shape,
+            (0..n).map(|i| i > 1 && i % 5 != 0).collect(),
+            (0..n).map(|i| i % 7 != 3).collect(),
+        );
+        world.pos[1] = V3::new(0.6, 0.0, 0.0);
         let excluded = [(5u64 << 32) | 9];
-        let mut sweep = BroadPhase::new(&shape);
+        let mut sweep = BroadPhase::new(&world.shape);
         let mut found = 0;
         for step in 0..40 {
             let mut aabbs: Vec<Aabb> = (0..n)
-                .map(|i| match shape[i] {
-                    Shape::HalfSpace { .. } => shape[i].aabb(&rot[i], &pos[i]),
+                .map(|i| match world.shape[i] {
+                    Shape::HalfSpace { .. } => world.shape[i].aabb(&world.rot[i], &world.pos[i]),
                     _ => {
                         let c = V3::new(next(), next() * 0.3, next() * 0.3 - 0.1);
                         let half = V3::repeat(0.01 + 0.1 * next());
@@ -435,15 +474,7 @@ mod tests {
                     max: V3::repeat(f64::NAN),
                 };
             }
-            let bodies = CollisionBodies {
-                shape: &shape,
-                rot: &rot,
-                pos: &pos,
-                aabb: &aabbs,
-                awake: &awake,
-                responds: &responds,
-                travel: &[],
-            };
+            let bodies = world.view(&aabbs);
             sweep.update(&bodies, &excluded, true);
             let every = every_pair(&bodies, &excluded);
             assert_eq!(sweep.pairs, every, "step {step}");
@@ -461,13 +492,7 @@ mod tests {
     #[test]
     fn the_grid_finds_the_pairs_that_testing_every_pair_finds() {
         let n = 3 * ALL_PAIRS_BODIES;
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(0x9e37_79b9_7f4a_7c15);
         let mut shape = vec![Shape::HalfSpace { normal: V3::z() }];
         let mut aabbs = vec![Aabb {
             min: V3::repeat(f64::NEG_INFINITY),
@@ -482,21 +507,14 @@ mod tests {
                 max: c + half,
             });
         }
-        let rot = vec![crate::geometry::M3::identity(); n];
-        let pos = vec![V3::zeros(); n];
-        let awake: Vec<bool> = (0..n).map(|i| i > 0 && i % 5 != 0).collect();
-        let responds: Vec<bool> = (0..n).map(|i| i > 0 && i % 7 != 0).collect();
-        let bodies = CollisionBodies {
-            shape: &shape,
-            rot: &rot,
-            pos: &pos,
-            aabb: &aabbs,
-            awake: &awake,
-            responds: &responds,
-            travel: &[],
-        };
+        let world = TestBodies::new(
+            shape,
+            (0..n).map(|i| i > 0 && i % 5 != 0).collect(),
+            (0..n).map(|i| i > 0 && i % 7 != 0).collect(),
+        );
+        let bodies = world.view(&aabbs);
         let excluded = [(3u64 << 32) | 4];
-        let mut grid = BroadPhase::new(&shape);
+        let mut grid = BroadPhase::new(&world.shape);
         grid.update(&bodies, &excluded, true);
         let every = every_pair(&bodies, &excluded);
         assert!(every.len() > n, "the world is crowded enough to test");
@@ -509,12 +527,16 @@ mod tests {
     #[test]
     fn kept_pairs_are_the_pairs_of_the_boxes_now() {
         let n = 2 * ALL_PAIRS_BODIES;
-        let shape = vec![
-            Shape::Cuboid {
-                half: V3::repeat(0.5)
-            };
-            n
-        ];
+        let world = TestBodies::new(
+            vec![
+                Shape::Cuboid {
+                    half: V3::repeat(0.5)
+                };
+                n
+            ],
+            vec![true; n],
+            vec![true; n],
+        );
         // A row of unit boxes 1.01 m apart, each box grown by 5 mm: neighbours' boxes touch.
         let place = |shift: &dyn Fn(usize) -> f64| -> Vec<Aabb> {
             (0..n)
@@ -527,21 +549,9 @@ mod tests {
                 })
                 .collect()
         };
-        let rot = vec![crate::geometry::M3::identity(); n];
-        let pos = vec![V3::zeros(); n];
-        let awake = vec![true; n];
-        let responds = vec![true; n];
-        let mut grid = BroadPhase::new(&shape);
+        let mut grid = BroadPhase::new(&world.shape);
         let mut check = |aabbs: &[Aabb], built: bool| {
-            let bodies = CollisionBodies {
-                shape: &shape,
-                rot: &rot,
-                pos: &pos,
-                aabb: aabbs,
-                awake: &awake,
-                responds: &responds,
-                travel: &[],
-            };
+            let bodies = world.view(aabbs);
             let before = grid.grown.clone();
             grid.update(&bodies, &[], true);
             assert_eq!(grid.grown != before, built, "built the grid again");
